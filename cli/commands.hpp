@@ -1,0 +1,15 @@
+#pragma once
+// Subcommands of the yarnfit front end. Each `add_*` registers a subcommand on the app and
+// stores the exit code of its run in `exit_code` (0 success, 2 invalid input, 1 internal).
+
+#include <CLI/CLI.hpp>
+
+namespace yarnfit::cli {
+
+inline constexpr int k_exit_ok = 0;
+inline constexpr int k_exit_internal = 1;
+inline constexpr int k_exit_invalid_input = 2;
+
+void add_db_commands(CLI::App& app, int& exit_code);
+
+}  // namespace yarnfit::cli

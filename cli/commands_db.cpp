@@ -1,0 +1,195 @@
+// yarnfit db …: validate, list, show and import fabric records.
+#include <algorithm>
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.hpp"
+#include "cli/output.hpp"
+#include "fabrics_db/import/tensile_import.hpp"
+#include "fabrics_db/records/database.hpp"
+#include "fabrics_db/records/fabric_summary.hpp"
+#include "fabrics_db/text_util.hpp"
+
+namespace yarnfit::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using yarnfit::db::DatabaseLoad;
+using yarnfit::db::Problems;
+
+void print_problems(const Problems& problems) {
+  for (const auto& p : problems.items()) std::cerr << p.to_string() << "\n";
+}
+
+void print_notes(const DatabaseLoad& db) {
+  for (const auto& n : db.notes) std::cerr << "note: " << n << "\n";
+}
+
+int run_validate(const fs::path& path) {
+  const DatabaseLoad db = db::load_fabric_or_database(path);
+  const Problems all = db.all_problems();
+  print_notes(db);
+  print_problems(all);
+  for (const auto& f : db.fabrics) {
+    const std::string name = f.id.empty() ? "(no id)" : f.id;
+    if (f.ok()) {
+      std::cout << "ok       " << name << "  " << f.folder.string() << "\n";
+    } else {
+      std::cout << "invalid  " << name << "  " << f.folder.string() << "  (" << f.problems.size()
+                << " problem" << (f.problems.size() == 1 ? "" : "s") << ")\n";
+    }
+  }
+  std::cout << db.fabrics.size() << " fabric" << (db.fabrics.size() == 1 ? "" : "s") << ": "
+            << db.valid_count() << " valid, " << db.fabrics.size() - db.valid_count()
+            << " invalid; " << all.size() << " problem" << (all.size() == 1 ? "" : "s") << "\n";
+  return all.empty() ? k_exit_ok : k_exit_invalid_input;
+}
+
+int run_list(const fs::path& path, const std::string& family, bool as_json) {
+  const DatabaseLoad db = db::load_fabric_or_database(path);
+  nlohmann::json entries = nlohmann::json::array();
+  Problems shown = db.problems;
+  for (const auto& f : db.fabrics) {
+    if (!family.empty() && f.family != family) continue;
+    entries.push_back(db::list_entry(f));
+    shown.append(f.problems);
+  }
+  print_notes(db);
+  print_problems(shown);
+  if (as_json) std::cout << entries.dump(2) << "\n";
+  else print_fabric_table(std::cout, entries);
+  return shown.empty() ? k_exit_ok : k_exit_invalid_input;
+}
+
+int run_show(const fs::path& path, bool as_json) {
+  if (!db::is_fabric_folder(path)) {
+    std::cerr << (path / db::k_fabric_file_name).string()
+              << ": file: no fabric here (db show takes one fabric folder)\n";
+    return k_exit_invalid_input;
+  }
+  const auto load = db::load_fabric(path);
+  if (!load.ok()) {
+    print_problems(load.problems);
+    return k_exit_invalid_input;
+  }
+  const auto j = db::describe_fabric(*load.fabric);
+  if (as_json) std::cout << j.dump(2) << "\n";
+  else print_fabric(std::cout, j);
+  return k_exit_ok;
+}
+
+struct ImportArgs {
+  std::string input, output, stretch_col, force_col, width_col, compression_col;
+  std::string extension_unit = "stretch", force_unit = "N", delimiter;
+  double gauge_length_mm = 0.0, swatch_width_mm = 0.0;
+  int skip_lines = -1;
+  bool loading_branch = false, force = false, quiet = false;
+};
+
+int run_import(const ImportArgs& a) {
+  db::TensileImportOptions o;
+  o.input = a.input;
+  o.output = a.output;
+  o.extension = db::ColumnRef::parse(a.stretch_col);
+  o.force = db::ColumnRef::parse(a.force_col);
+  if (!a.width_col.empty()) o.width = db::ColumnRef::parse(a.width_col);
+  if (!a.compression_col.empty()) o.compression = db::ColumnRef::parse(a.compression_col);
+  o.extension_unit = *db::parse_extension_unit(a.extension_unit);  // checked by CLI11
+  o.force_unit = *db::parse_force_unit(a.force_unit);
+  if (a.gauge_length_mm > 0) o.gauge_length_mm = a.gauge_length_mm;
+  if (a.swatch_width_mm > 0) o.swatch_width_mm = a.swatch_width_mm;
+  if (a.skip_lines >= 0) o.skip_lines = a.skip_lines;
+  if (a.delimiter == "tab" || a.delimiter == "\\t") o.delimiter = '\t';
+  else if (!a.delimiter.empty()) o.delimiter = a.delimiter.front();
+  o.loading_branch = a.loading_branch;
+  o.overwrite = a.force;
+
+  const auto r = db::import_tensile(o);
+  print_problems(r.problems);
+  if (!r.written) {
+    std::cerr << "nothing written\n";
+    return k_exit_invalid_input;
+  }
+  if (!a.quiet) {
+    std::cout << "wrote " << o.output.string() << ": " << r.rows_written << " rows";
+    if (r.rows_dropped > 0) std::cout << " (" << r.rows_dropped << " dropped outside the loading branch)";
+    std::cout << ", stretch " << db::format_g(r.curve.stretch.front(), 4) << " to "
+              << db::format_g(r.curve.stretch.back(), 4) << ", force up to "
+              << db::format_g(*std::max_element(r.curve.force.begin(), r.curve.force.end()), 4)
+              << " N" << (r.curve.has_compression() ? ", with compression" : ", no compression")
+              << "\n";
+  }
+  return k_exit_ok;
+}
+
+// Values the db subcommands parse into; shared by their callbacks, which outlive this call.
+struct DbArgs {
+  std::string path, family;
+  bool json = false;
+  ImportArgs import;
+};
+
+}  // namespace
+
+void add_db_commands(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<DbArgs>();
+  auto* db = app.add_subcommand("db", "Fabric records: validate, list, show, import");
+  db->require_subcommand(1);
+
+  auto* validate = db->add_subcommand(
+      "validate",
+      "Check a fabric folder or a database folder. Prints one 'file:line: field: message' "
+      "per problem on stderr; exits 2 if there is any. Never modifies the files.");
+  validate->add_option("PATH", args->path, "Fabric folder (with fabric.yaml) or database folder")
+      ->required();
+  validate->callback([args, &exit_code] { exit_code = run_validate(args->path); });
+
+  auto* list = db->add_subcommand("list", "List the fabrics of a database");
+  list->add_option("DB", args->path, "Database folder (or one fabric folder)")->required();
+  list->add_option("--family", args->family, "Only fabrics of this family");
+  list->add_flag("--json", args->json, "Print JSON instead of a table");
+  list->callback([args, &exit_code] { exit_code = run_list(args->path, args->family, args->json); });
+
+  auto* show = db->add_subcommand(
+      "show", "Describe one fabric: composition, tests and curve ranges, tile facts");
+  show->add_option("FABRIC", args->path, "Fabric folder")->required();
+  show->add_flag("--json", args->json, "Print JSON (SI units) instead of text");
+  show->callback([args, &exit_code] { exit_code = run_show(args->path, args->json); });
+
+  auto* imp = db->add_subcommand(
+      "import-tensile",
+      "Turn a tensile-tester export into a stretch-test CSV (stretch, force_N[, compression]). "
+      "Columns are given by header name or 1-based index. The header is found automatically "
+      "when columns are named (lines above it are skipped). Writes a new file; an existing "
+      "one is replaced only with --force.");
+  ImportArgs& ia = args->import;
+  imp->add_option("INPUT", ia.input, "Exported file (CSV, semicolon or tab separated)")->required();
+  imp->add_option("-o,--out", ia.output, "Stretch-test CSV to write")->required();
+  imp->add_option("--stretch-col", ia.stretch_col, "Column of the extension (mm) or stretch")->required();
+  imp->add_option("--force-col", ia.force_col, "Column of the clamp force")->required();
+  imp->add_option("--width-col", ia.width_col,
+                  "Column of the fabric width at mid-length in mm (gives compression)");
+  imp->add_option("--compression-col", ia.compression_col, "Column of compression c = 1 - w/w0");
+  imp->add_option("--extension-unit", ia.extension_unit, "Unit of the extension column")
+      ->check(CLI::IsMember({"mm", "stretch"}))
+      ->capture_default_str();
+  imp->add_option("--force-unit", ia.force_unit, "Unit of the force column")
+      ->check(CLI::IsMember({"N", "cN", "mN", "kN"}))
+      ->capture_default_str();
+  imp->add_option("--gauge-length-mm", ia.gauge_length_mm,
+                  "Initial length the extension is measured over (needed with mm)")
+      ->check(CLI::PositiveNumber);
+  imp->add_option("--swatch-width-mm", ia.swatch_width_mm,
+                  "Unstretched swatch width (needed with --width-col)")
+      ->check(CLI::PositiveNumber);
+  imp->add_option("--skip-lines", ia.skip_lines, "Lines to skip before the header")
+      ->check(CLI::NonNegativeNumber);
+  imp->add_option("--delimiter", ia.delimiter, "Field separator: ',', ';' or 'tab' (detected if absent)");
+  imp->add_flag("--loading-branch", ia.loading_branch,
+                "Keep only the loading branch: rows up to the peak force whose stretch increases");
+  imp->add_flag("--force", ia.force, "Replace the output file if it exists");
+  imp->add_flag("-q,--quiet", ia.quiet, "Print nothing on success");
+  imp->callback([args, &exit_code] { exit_code = run_import(args->import); });
+}
+
+}  // namespace yarnfit::cli

@@ -1,0 +1,30 @@
+// yarnfit: calibrates cloth simulation models against physical tests of knitted fabrics.
+#include <exception>
+#include <iostream>
+
+#include "cli/commands.hpp"
+
+#ifndef YARNFIT_VERSION
+#define YARNFIT_VERSION "0.0.0"
+#endif
+
+int main(int argc, char** argv) {
+  using namespace yarnfit::cli;
+  CLI::App app{
+      "yarnfit — fits thin-shell and yarn-level cloth models to stretch and bending tests of "
+      "knitted fabrics.\nExit codes: 0 success, 2 invalid input, 1 internal failure."};
+  app.set_version_flag("--version", std::string("yarnfit ") + YARNFIT_VERSION);
+  app.require_subcommand(1);
+  int exit_code = k_exit_ok;
+  add_db_commands(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // Help and version exit 0; a bad command line is invalid input.
+    return app.exit(e) == 0 ? k_exit_ok : k_exit_invalid_input;
+  } catch (const std::exception& e) {
+    std::cerr << "yarnfit: internal error: " << e.what() << "\n";
+    return k_exit_internal;
+  }
+  return exit_code;
+}

@@ -1,0 +1,27 @@
+#pragma once
+// Small text helpers shared by the readers of fabrics_db.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace yarnfit::db {
+
+std::string_view trim(std::string_view s);
+// Reads a whole file; on failure returns false and a message such as
+// "cannot read file: No such file or directory".
+bool read_text_file(const std::filesystem::path& file, std::string& text, std::string& why);
+// Writes `text` to `file` through a temporary file in the same folder and a rename, so a
+// reader never sees a half-written file. Throws std::runtime_error naming the file.
+void write_text_file_atomically(const std::filesystem::path& file, const std::string& text);
+// Levenshtein distance, for "did you mean" hints on misspelt keys.
+std::size_t edit_distance(std::string_view a, std::string_view b);
+// The closest of `candidates` to `word` if it is a plausible typo, else "".
+std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
+// "a, b and c"
+std::string join_words(const std::vector<std::string>& words, std::string_view last = " or ");
+// printf-style "%.<digits>g" of a double.
+std::string format_g(double value, int digits = 6);
+
+}  // namespace yarnfit::db

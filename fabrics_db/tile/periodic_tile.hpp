@@ -1,0 +1,105 @@
+#pragma once
+// A periodic yarn tile in the HYLC "pyp" layout (SPEC §6), in metres.
+//
+// The tile is a rectangle px × py in the x-y plane that repeats in x and y. Yarns are
+// polylines of vertices; edge i runs from vertex v0 to the copy of vertex v1 shifted by
+// (dx·px, dy·py), dx, dy ∈ {-1, 0, 1}. Every vertex has exactly one outgoing and one
+// incoming edge, so the edges split into closed cycles: each cycle is one periodic yarn,
+// and the sum of its edge offsets is the period it advances by (e.g. (1, 0) for a yarn
+// running along the courses). Sections *RK, *RT and *RefT hold one entry per vertex,
+// *RL and *RefD1 one per edge, in file order.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fabrics_db/problems.hpp"
+
+namespace yarnfit::db {
+
+struct TileEdge {
+  int v0 = 0;
+  int v1 = 0;
+  int dx = 0;  // period offset of v1 along x, in {-1, 0, 1}
+  int dy = 0;  // period offset of v1 along y, in {-1, 0, 1}
+};
+
+struct PeriodicTile {
+  double period_x = 0.0;  // px [m]
+  double period_y = 0.0;  // py [m]
+  double radius = 0.0;    // yarn radius as written in the file [m]
+
+  std::vector<std::array<double, 3>> positions;        // *Q x y z, #V [m]
+  std::vector<double> twists;                          // *Q t, #V (edge twist DOF) [rad]
+  std::vector<TileEdge> edges;                         // *E, #E (== #V)
+  std::vector<double> rest_lengths;                    // *RL, #E [m]
+  std::vector<std::array<double, 2>> rest_curvatures;  // *RK, #V [1/m · m] (DER κb components)
+  std::vector<double> rest_twists;                     // *RT, #V [rad]
+  std::vector<std::array<double, 3>> reference_directors;  // *RefD1, #E, unit vectors
+  std::vector<double> reference_twists;                // *RefT, #V [rad]
+
+  [[nodiscard]] int vertex_count() const { return static_cast<int>(positions.size()); }
+  [[nodiscard]] int edge_count() const { return static_cast<int>(edges.size()); }
+  // End point of edge e's second vertex, with the period offset applied [m].
+  [[nodiscard]] std::array<double, 3> edge_end(int e) const;
+};
+
+// Documented defaults for the optional sections, used by the reader when a section is
+// absent and by code that builds tiles: each empty vector among twists (0), rest_lengths
+// (geometric edge lengths), rest_curvatures (0 0), rest_twists (0), reference_directors
+// (default_reference_director of the edge) and reference_twists (0) is filled in; vectors
+// that already hold values are left alone.
+void fill_tile_defaults(PeriodicTile& tile);
+// A unit vector perpendicular to `tangent`: normalise(tangent × z), or, for a tangent
+// (nearly) along z, the part of x perpendicular to it. (1, 0, 0) for a zero tangent.
+std::array<double, 3> default_reference_director(const std::array<double, 3>& tangent);
+
+// Reads a pyp file. Every problem is added to `problems` (file, line, section, message);
+// the result is empty when any problem was found, so no caller sees a half-read tile.
+std::optional<PeriodicTile> read_pyp(const std::filesystem::path& file, Problems& problems);
+// Same, from text already in memory; `file_label` is used in problem messages.
+std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string& file_label,
+                                      Problems& problems);
+
+// Writes `tile` in pyp layout with `significant_digits` digits per value (17 reproduces
+// every double exactly). Throws std::runtime_error if the file cannot be written.
+void write_pyp(const PeriodicTile& tile, const std::filesystem::path& file,
+               int significant_digits = 17);
+std::string format_pyp(const PeriodicTile& tile, int significant_digits = 17);
+
+struct PeriodicYarn {
+  std::vector<int> edges;  // edge indices in order along the yarn
+  int offset_x = 0;        // periods advanced in x after one trip along the yarn
+  int offset_y = 0;
+  double length = 0.0;     // geometric length of the polyline in the tile [m]
+  double rest_length = 0.0;  // sum of *RL over its edges [m]
+};
+
+// Facts about a tile used for checks and for the yarn fit (SPEC §3).
+struct TileFacts {
+  std::vector<PeriodicYarn> yarns;
+  double area = 0.0;               // px · py [m²]
+  double total_length = 0.0;       // geometric yarn length in the tile [m]
+  double total_rest_length = 0.0;  // sum of rest lengths [m]
+  double yarn_radius = 0.0;        // as written in the file [m]
+  double mean_segment_length = 0.0;  // [m]
+  // R_est: the smallest radius at which every segment touches another one, i.e.
+  //   R_est = max_a D_a / 2,  D_a = min over contact candidates b of dist(a, b),
+  // with dist the exact centreline distance between segments. Candidates are all edges of
+  // the tile and of its copies shifted by (i·px, j·py), except a itself and the two edges
+  // sharing a vertex with it. Two segments of the same infinite yarn (same cycle, shift a
+  // multiple k of the yarn's net offset) count only if the yarn between them is longer than
+  // (π/2)·dist: a yarn of radius R touching itself through a U-turn has at least πR of arc
+  // between points 2R apart, while nearby segments of a straight yarn have arc ≈ distance.
+  double r_est = 0.0;
+  int r_est_edge = -1;  // the edge a attaining the maximum
+  // Smallest centreline distance between contact candidates [m]; 0 means yarns intersect.
+  double min_contact_distance = 0.0;
+  std::vector<double> segment_contact_distances;  // D_a per edge, #E [m]
+};
+
+TileFacts compute_tile_facts(const PeriodicTile& tile);
+
+}  // namespace yarnfit::db

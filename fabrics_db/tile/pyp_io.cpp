@@ -1,0 +1,614 @@
+// Reading and writing periodic yarn tiles in the HYLC "pyp" layout (SPEC §6).
+//
+// The reader works in two passes: first it splits the text into sections and rows (so that
+// row counts, duplicates and unknown sections are known before any value is used), then it
+// parses and cross-checks the values. Every problem is recorded and the reader carries on,
+// so a user fixing a file sees all of its problems at once.
+#include "fabrics_db/tile/periodic_tile.hpp"
+
+#include <cassert>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+#include <string_view>
+
+#include "fabrics_db/text_util.hpp"
+
+namespace yarnfit::db {
+namespace {
+
+// One section of the format: its name after '*', the names of its columns (used as the
+// field of a problem, e.g. "*E v1"), the comment the writer puts on its header line, and
+// whether its values are integers.
+struct SectionSpec {
+  std::string_view name;
+  std::vector<std::string_view> columns;
+  std::string_view comment;
+  bool required = false;
+};
+
+// In file order; the writer emits them in this order too.
+const std::vector<SectionSpec>& section_specs() {
+  static const std::vector<SectionSpec> specs = {
+      {"pattern", {"px", "py", "radius", "n"}, "px py radius num_vertedges", true},
+      {"Q", {"x", "y", "z", "t"}, "dofs: x y z t", true},
+      {"E", {"v0", "v1", "dx", "dy"}, "edges: v0 v1 dx dy", true},
+      {"RL", {""}, "rest lengths", false},
+      {"RK", {"k1", "k2"}, "rest kappas", false},
+      {"RT", {""}, "rest twists", false},
+      {"RefD1", {"x", "y", "z"}, "reference directors", false},
+      {"RefT", {""}, "reference twists", false},
+  };
+  return specs;
+}
+
+const SectionSpec* find_spec(std::string_view name) {
+  for (const auto& s : section_specs()) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+std::string all_section_names() {
+  std::vector<std::string> names;
+  for (const auto& s : section_specs()) names.push_back("*" + std::string(s.name));
+  return join_words(names, " and ");
+}
+
+struct Row {
+  int line = 0;
+  std::vector<std::string_view> tokens;
+};
+
+struct Section {
+  const SectionSpec* spec = nullptr;
+  int header_line = 0;
+  std::vector<Row> rows;
+};
+
+// Problems of one file, with the file label filled in.
+class Reporter {
+ public:
+  Reporter(std::string file, Problems& problems) : m_file(std::move(file)), m_problems(problems) {}
+  void add(int line, const std::string& field, const std::string& message) {
+    m_problems.add(m_file, line, field, message);
+    ++m_count;
+  }
+  [[nodiscard]] int count() const { return m_count; }
+
+ private:
+  std::string m_file;
+  Problems& m_problems;
+  int m_count = 0;
+};
+
+std::string field_of(const SectionSpec& spec, std::size_t column) {
+  std::string field = "*" + std::string(spec.name);
+  if (column < spec.columns.size() && !spec.columns[column].empty()) {
+    field += " " + std::string(spec.columns[column]);
+  }
+  return field;
+}
+
+std::string quote(std::string_view token) { return "'" + std::string(token) + "'"; }
+
+std::optional<double> parse_double(std::string_view token, std::string& why) {
+  std::string_view s = token;
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec == std::errc::result_out_of_range) {
+    why = "number out of range: " + quote(token);
+    return std::nullopt;
+  }
+  if (ec != std::errc() || ptr != s.data() + s.size() || s.empty()) {
+    why = "expected a number, found " + quote(token);
+    return std::nullopt;
+  }
+  if (!std::isfinite(value)) {
+    why = "expected a finite number, found " + quote(token);
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<long long> parse_integer(std::string_view token, std::string& why) {
+  std::string_view s = token;
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  long long value = 0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec == std::errc::result_out_of_range) {
+    why = "integer out of range: " + quote(token);
+    return std::nullopt;
+  }
+  if (ec != std::errc() || ptr != s.data() + s.size() || s.empty()) {
+    why = "expected an integer, found " + quote(token);
+    return std::nullopt;
+  }
+  return value;
+}
+
+// Splits `text` into sections. Lines are 1-based; '\r' before '\n' is dropped (the HYLC
+// files have CRLF endings); '#' starts a comment anywhere on a line.
+struct SplitResult {
+  std::map<std::string_view, Section> sections;  // by name, first occurrence only
+  std::string_view last_section;                 // name of the last known section in the file
+  int last_line = 0;                             // last line that is not blank
+};
+
+SplitResult split_sections(std::string_view text, Reporter& report) {
+  SplitResult out;
+  Section* current = nullptr;
+  bool skipping = false;  // rows of an unknown or duplicate section are ignored
+  int line_no = 0;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    const std::size_t end = std::min(text.find('\n', pos), text.size());
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    out.last_line = line_no;
+
+    if (line.front() == '*') {
+      std::string_view rest = line.substr(1);
+      const std::size_t name_end = std::min(rest.find_first_of(" \t"), rest.size());
+      const std::string_view name = rest.substr(0, name_end);
+      const std::string field = "*" + std::string(name);
+      if (!trim(rest.substr(name_end)).empty()) {
+        report.add(line_no, field,
+                   "unexpected text after the section name " + quote(trim(rest.substr(name_end))) +
+                       "; values go on the following lines and comments start with '#'");
+      }
+      const SectionSpec* spec = find_spec(name);
+      current = nullptr;
+      skipping = true;
+      if (spec == nullptr) {
+        report.add(line_no, field, "unknown section; expected one of " + all_section_names());
+      } else if (const auto it = out.sections.find(spec->name); it != out.sections.end()) {
+        report.add(line_no, field,
+                   "duplicate section (first on line " + std::to_string(it->second.header_line) +
+                       "); each section may appear once");
+      } else {
+        Section& s = out.sections[spec->name];
+        s.spec = spec;
+        s.header_line = line_no;
+        current = &s;
+        skipping = false;
+        out.last_section = spec->name;
+      }
+      continue;
+    }
+
+    if (current == nullptr) {
+      if (!skipping) {
+        report.add(line_no, "file", "values before the first section; a pyp file starts with *pattern");
+        skipping = true;  // one problem for the whole run of stray lines
+      }
+      continue;
+    }
+    Row row;
+    row.line = line_no;
+    std::size_t p = 0;
+    while (p < line.size()) {
+      const std::size_t b = line.find_first_not_of(" \t", p);
+      if (b == std::string_view::npos) break;
+      const std::size_t e = std::min(line.find_first_of(" \t", b), line.size());
+      row.tokens.push_back(line.substr(b, e - b));
+      p = e;
+    }
+    current->rows.push_back(std::move(row));
+  }
+  return out;
+}
+
+// Values of one section after parsing; `ok[i]` is false when row i had any problem.
+struct Parsed {
+  bool present = false;
+  std::vector<std::vector<double>> values;
+  std::vector<bool> ok;
+  std::vector<int> lines;
+  int header_line = 0;
+};
+
+// Checks the row count of `section` against `expected` (when known) and parses its rows.
+// Integers are checked for being integers but returned as doubles (they are small).
+Parsed parse_section(const Section& section, std::optional<int> expected, std::string_view n_origin,
+                     bool is_last_section, int last_line, bool integers, Reporter& report) {
+  const SectionSpec& spec = *section.spec;
+  const std::string name = "*" + std::string(spec.name);
+  Parsed out;
+  out.present = true;
+  out.header_line = section.header_line;
+  const int found = static_cast<int>(section.rows.size());
+  if (expected && found != *expected) {
+    const std::string counts = "expected " + std::to_string(*expected) + " row" +
+                               (*expected == 1 ? "" : "s") + " (" + std::string(n_origin) +
+                               "), found " + std::to_string(found);
+    if (found > *expected) {
+      report.add(section.rows[static_cast<std::size_t>(*expected)].line, name, counts);
+    } else if (is_last_section) {
+      report.add(last_line, name,
+                 "file ends after " + std::to_string(found) + " of " + std::to_string(*expected) +
+                     " rows (truncated file?); " + counts);
+    } else {
+      report.add(section.header_line, name, counts);
+    }
+  }
+  const std::size_t width = spec.columns.size();
+  for (const Row& row : section.rows) {
+    std::vector<double> values(width, 0.0);
+    bool ok = true;
+    if (row.tokens.size() != width) {
+      std::string columns;
+      for (const auto& c : spec.columns) columns += (columns.empty() ? "" : " ") + std::string(c);
+      report.add(row.line, name,
+                 "expected " + std::to_string(width) + " value" + (width == 1 ? "" : "s") +
+                     (width > 1 ? " (" + columns + ")" : "") + " on the row, found " +
+                     std::to_string(row.tokens.size()));
+      ok = false;
+    } else {
+      for (std::size_t c = 0; c < width; ++c) {
+        std::string why;
+        if (integers) {
+          if (const auto v = parse_integer(row.tokens[c], why)) {
+            values[c] = static_cast<double>(*v);
+            continue;
+          }
+        } else if (const auto v = parse_double(row.tokens[c], why)) {
+          values[c] = *v;
+          continue;
+        }
+        report.add(row.line, field_of(spec, c), why);
+        ok = false;
+      }
+    }
+    out.values.push_back(std::move(values));
+    out.ok.push_back(ok);
+    out.lines.push_back(row.line);
+  }
+  return out;
+}
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+// Directors must be unit vectors; the HYLC files store them in single precision.
+constexpr double k_director_tolerance = 1e-3;
+// An edge shorter than this fraction of the larger period is treated as zero-length: its
+// tangent, and everything the simulator derives from it, would be undefined.
+constexpr double k_zero_length_fraction = 1e-9;
+
+}  // namespace
+
+std::array<double, 3> PeriodicTile::edge_end(int e) const {
+  assert(e >= 0 && e < edge_count());
+  const TileEdge& edge = edges[static_cast<std::size_t>(e)];
+  const auto& p = positions[static_cast<std::size_t>(edge.v1)];
+  return {p[0] + edge.dx * period_x, p[1] + edge.dy * period_y, p[2]};
+}
+
+std::array<double, 3> default_reference_director(const std::array<double, 3>& tangent) {
+  const double len = norm(tangent);
+  if (!(len > 0.0)) return {1.0, 0.0, 0.0};
+  const Vec3 t = {tangent[0] / len, tangent[1] / len, tangent[2] / len};
+  Vec3 d = cross(t, {0.0, 0.0, 1.0});
+  double dn = norm(d);
+  if (dn < 1e-6) {
+    // Tangent (nearly) along z: take the part of x perpendicular to it.
+    d = {1.0 - t[0] * t[0], -t[0] * t[1], -t[0] * t[2]};
+    dn = norm(d);
+  }
+  return {d[0] / dn, d[1] / dn, d[2] / dn};
+}
+
+void fill_tile_defaults(PeriodicTile& tile) {
+  const std::size_t nv = tile.positions.size();
+  const std::size_t ne = tile.edges.size();
+  if (tile.twists.empty()) tile.twists.assign(nv, 0.0);
+  if (tile.rest_lengths.empty()) {
+    for (int e = 0; e < static_cast<int>(ne); ++e) {
+      const auto& edge = tile.edges[static_cast<std::size_t>(e)];
+      tile.rest_lengths.push_back(
+          norm(sub(tile.edge_end(e), tile.positions[static_cast<std::size_t>(edge.v0)])));
+    }
+  }
+  if (tile.rest_curvatures.empty()) tile.rest_curvatures.assign(nv, {0.0, 0.0});
+  if (tile.rest_twists.empty()) tile.rest_twists.assign(nv, 0.0);
+  if (tile.reference_directors.empty()) {
+    for (int e = 0; e < static_cast<int>(ne); ++e) {
+      const auto& edge = tile.edges[static_cast<std::size_t>(e)];
+      tile.reference_directors.push_back(default_reference_director(
+          sub(tile.edge_end(e), tile.positions[static_cast<std::size_t>(edge.v0)])));
+    }
+  }
+  if (tile.reference_twists.empty()) tile.reference_twists.assign(nv, 0.0);
+}
+
+std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string& file_label,
+                                      Problems& problems) {
+  Reporter report(file_label, problems);
+  if (trim(text).empty()) {
+    report.add(0, "file", "file is empty; expected a pyp tile starting with *pattern");
+    return std::nullopt;
+  }
+  const SplitResult split = split_sections(text, report);
+  const auto section = [&](std::string_view name) -> const Section* {
+    const auto it = split.sections.find(name);
+    return it == split.sections.end() ? nullptr : &it->second;
+  };
+  for (const auto& spec : section_specs()) {
+    if (spec.required && section(spec.name) == nullptr) {
+      report.add(split.last_line, "*" + std::string(spec.name),
+                 "required section *" + std::string(spec.name) + " is missing (file ends at line " +
+                     std::to_string(split.last_line) + "; truncated file?)");
+    }
+  }
+
+  // *pattern: px py radius n.
+  PeriodicTile tile;
+  std::optional<int> n;
+  std::string n_origin;
+  bool pattern_ok = false;
+  if (const Section* s = section("pattern")) {
+    const Parsed p = parse_section(*s, 1, "one line: px py radius n",
+                                   split.last_section == "pattern", split.last_line, false, report);
+    if (!p.values.empty() && p.ok[0]) {
+      const auto& v = p.values[0];
+      const int line = p.lines[0];
+      pattern_ok = true;
+      const char* names[] = {"px", "py", "radius"};
+      for (int c = 0; c < 3; ++c) {
+        if (!(v[static_cast<std::size_t>(c)] > 0.0)) {
+          report.add(line, "*pattern " + std::string(names[c]),
+                     "must be positive, found " + format_g(v[static_cast<std::size_t>(c)], 17));
+          pattern_ok = false;
+        }
+      }
+      tile.period_x = v[0];
+      tile.period_y = v[1];
+      tile.radius = v[2];
+      // n is read as a number so that "13.0" gets a clear message rather than a parse error.
+      const double nv = v[3];
+      if (!(nv >= 1.0) || nv != std::floor(nv) || nv > 1e8) {
+        report.add(line, "*pattern n",
+                   "number of vertices and edges must be a positive integer, found " +
+                       std::string(s->rows[0].tokens[3]));
+        pattern_ok = false;
+      } else {
+        n = static_cast<int>(nv);
+        n_origin = "n = " + std::to_string(*n) + " in *pattern on line " + std::to_string(line);
+      }
+    }
+  }
+
+  // All other sections have n rows.
+  std::map<std::string_view, Parsed> parsed;
+  for (const auto& spec : section_specs()) {
+    if (spec.name == "pattern") continue;
+    if (const Section* s = section(spec.name)) {
+      parsed[spec.name] = parse_section(*s, n, n_origin, split.last_section == spec.name,
+                                        split.last_line, spec.name == "E", report);
+    }
+  }
+  const Parsed* q = parsed.contains("Q") ? &parsed.at("Q") : nullptr;
+  const Parsed* e = parsed.contains("E") ? &parsed.at("E") : nullptr;
+
+  // Edges: indices, offsets, one outgoing and one incoming edge per vertex, no zero length.
+  if (e != nullptr) {
+    const int vertex_count = n ? *n : (q ? static_cast<int>(q->values.size()) : -1);
+    std::vector<int> out_line(vertex_count > 0 ? static_cast<std::size_t>(vertex_count) : 0, 0);
+    std::vector<int> in_line(out_line.size(), 0);
+    std::vector<bool> edge_ok = e->ok;
+    for (std::size_t i = 0; i < e->values.size(); ++i) {
+      if (!e->ok[i]) continue;
+      const auto& v = e->values[i];
+      const int line = e->lines[i];
+      for (int c = 0; c < 2; ++c) {
+        const double idx = v[static_cast<std::size_t>(c)];
+        if (idx < 0 || (vertex_count >= 0 && idx >= vertex_count)) {
+          report.add(line, c == 0 ? "*E v0" : "*E v1",
+                     "vertex index " + format_g(idx, 17) + " out of range" +
+                         (vertex_count > 0 ? " [0, " + std::to_string(vertex_count - 1) + "]"
+                                           : std::string()));
+          edge_ok[i] = false;
+        }
+      }
+      for (int c = 2; c < 4; ++c) {
+        const double off = v[static_cast<std::size_t>(c)];
+        if (off < -1 || off > 1) {
+          report.add(line, c == 2 ? "*E dx" : "*E dy",
+                     "period offset " + format_g(off, 17) + " outside {-1, 0, 1}");
+          edge_ok[i] = false;
+        }
+      }
+      if (!edge_ok[i] || vertex_count < 0) continue;
+      const auto v0 = static_cast<std::size_t>(v[0]);
+      const auto v1 = static_cast<std::size_t>(v[1]);
+      const std::string rule =
+          "; every vertex needs exactly one outgoing and one incoming edge, so that yarns are "
+          "closed periodic loops";
+      if (out_line[v0] != 0) {
+        report.add(line, "*E v0",
+                   "vertex " + std::to_string(v0) + " has a second outgoing edge (the first is on line " +
+                       std::to_string(out_line[v0]) + ")" + rule);
+        edge_ok[i] = false;
+      } else {
+        out_line[v0] = line;
+      }
+      if (in_line[v1] != 0) {
+        report.add(line, "*E v1",
+                   "vertex " + std::to_string(v1) + " has a second incoming edge (the first is on line " +
+                       std::to_string(in_line[v1]) + ")" + rule);
+        edge_ok[i] = false;
+      } else {
+        in_line[v1] = line;
+      }
+    }
+    // With as many edges as vertices, a missing edge shows up above as another vertex's second
+    // one; only report vertices left without edges when the *E rows themselves were all fine,
+    // so that one mistake gives one problem.
+    bool all_rows_fine = e->values.size() == out_line.size();
+    for (std::size_t i = 0; i < edge_ok.size(); ++i) all_rows_fine = all_rows_fine && edge_ok[i];
+    if (all_rows_fine) {
+      for (std::size_t vtx = 0; vtx < out_line.size(); ++vtx) {
+        if (out_line[vtx] == 0 || in_line[vtx] == 0) {
+          report.add(e->header_line, "*E",
+                     "vertex " + std::to_string(vtx) + " has no " +
+                         (out_line[vtx] == 0 ? "outgoing" : "incoming") +
+                         " edge; yarns must be closed periodic loops");
+        }
+      }
+    }
+    // Zero-length edges need the positions and the periods.
+    if (q != nullptr && pattern_ok) {
+      const double tol = k_zero_length_fraction * std::max(tile.period_x, tile.period_y);
+      for (std::size_t i = 0; i < e->values.size(); ++i) {
+        if (!edge_ok[i]) continue;
+        const auto& v = e->values[i];
+        const auto v0 = static_cast<std::size_t>(v[0]);
+        const auto v1 = static_cast<std::size_t>(v[1]);
+        if (v0 >= q->values.size() || v1 >= q->values.size() || !q->ok[v0] || !q->ok[v1]) continue;
+        const Vec3 a = {q->values[v0][0], q->values[v0][1], q->values[v0][2]};
+        const Vec3 b = {q->values[v1][0] + v[2] * tile.period_x, q->values[v1][1] + v[3] * tile.period_y,
+                        q->values[v1][2]};
+        if (norm(sub(b, a)) <= tol) {
+          report.add(e->lines[i], "*E",
+                     "edge from vertex " + std::to_string(v0) + " to vertex " + std::to_string(v1) +
+                         " (offset " + format_g(v[2]) + " " + format_g(v[3]) +
+                         ") has zero length; its end points coincide");
+        }
+      }
+    }
+  }
+
+  // Rest lengths must be positive; directors must be unit vectors.
+  if (const auto it = parsed.find("RL"); it != parsed.end()) {
+    for (std::size_t i = 0; i < it->second.values.size(); ++i) {
+      if (it->second.ok[i] && !(it->second.values[i][0] > 0.0)) {
+        report.add(it->second.lines[i], "*RL",
+                   "rest length must be positive, found " + format_g(it->second.values[i][0], 17));
+      }
+    }
+  }
+  if (const auto it = parsed.find("RefD1"); it != parsed.end()) {
+    for (std::size_t i = 0; i < it->second.values.size(); ++i) {
+      const auto& v = it->second.values[i];
+      const double len = norm({v[0], v[1], v[2]});
+      if (it->second.ok[i] && std::abs(len - 1.0) > k_director_tolerance) {
+        report.add(it->second.lines[i], "*RefD1",
+                   "reference director must be a unit vector, its length is " + format_g(len));
+      }
+    }
+  }
+
+  if (report.count() > 0 || q == nullptr || e == nullptr) return std::nullopt;
+
+  // No problems: every section present has exactly n good rows.
+  const auto& qv = q->values;
+  const auto& ev = e->values;
+  for (std::size_t i = 0; i < qv.size(); ++i) {
+    tile.positions.push_back({qv[i][0], qv[i][1], qv[i][2]});
+    tile.twists.push_back(qv[i][3]);
+  }
+  for (const auto& v : ev) {
+    tile.edges.push_back(TileEdge{static_cast<int>(v[0]), static_cast<int>(v[1]),
+                                  static_cast<int>(v[2]), static_cast<int>(v[3])});
+  }
+  for (const auto& [name, p] : parsed) {
+    for (const auto& v : p.values) {
+      if (name == "RL") tile.rest_lengths.push_back(v[0]);
+      else if (name == "RK") tile.rest_curvatures.push_back({v[0], v[1]});
+      else if (name == "RT") tile.rest_twists.push_back(v[0]);
+      else if (name == "RefD1") tile.reference_directors.push_back({v[0], v[1], v[2]});
+      else if (name == "RefT") tile.reference_twists.push_back(v[0]);
+    }
+  }
+  fill_tile_defaults(tile);  // sections left out get their documented defaults
+  return tile;
+}
+
+std::optional<PeriodicTile> read_pyp(const std::filesystem::path& file, Problems& problems) {
+  std::string text;
+  std::string why;
+  if (!read_text_file(file, text, why)) {
+    problems.add(file.string(), 0, "file", why);
+    return std::nullopt;
+  }
+  return parse_pyp(text, file.string(), problems);
+}
+
+std::string format_pyp(const PeriodicTile& tile, int significant_digits) {
+  if (significant_digits < 1) {
+    throw std::invalid_argument("format_pyp: significant_digits must be at least 1, got " +
+                                std::to_string(significant_digits));
+  }
+  const std::size_t n = tile.positions.size();
+  const auto check = [&](std::size_t size, const char* what) {
+    if (size != n) {
+      throw std::invalid_argument(std::string("format_pyp: tile has ") + std::to_string(n) +
+                                  " vertices but " + std::to_string(size) + " entries in " + what);
+    }
+  };
+  check(tile.twists.size(), "twists");
+  check(tile.edges.size(), "edges (*E)");
+  check(tile.rest_lengths.size(), "rest_lengths (*RL)");
+  check(tile.rest_curvatures.size(), "rest_curvatures (*RK)");
+  check(tile.rest_twists.size(), "rest_twists (*RT)");
+  check(tile.reference_directors.size(), "reference_directors (*RefD1)");
+  check(tile.reference_twists.size(), "reference_twists (*RefT)");
+
+  std::string out;
+  out.reserve(n * 300 + 200);
+  const auto g = [&](double v) { return format_g(v, significant_digits); };
+  const auto header = [&](std::string_view name) {
+    const SectionSpec* spec = find_spec(name);
+    out += "*" + std::string(name) + " # " + std::string(spec->comment) + "\n";
+  };
+  header("pattern");
+  out += g(tile.period_x) + " " + g(tile.period_y) + " " + g(tile.radius) + " " +
+         std::to_string(n) + "\n\n";
+  header("Q");
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = tile.positions[i];
+    out += g(p[0]) + " " + g(p[1]) + " " + g(p[2]) + " " + g(tile.twists[i]) + "\n";
+  }
+  out += "\n";
+  header("E");
+  for (const auto& e : tile.edges) {
+    out += std::to_string(e.v0) + " " + std::to_string(e.v1) + " " + std::to_string(e.dx) + " " +
+           std::to_string(e.dy) + "\n";
+  }
+  out += "\n";
+  header("RL");
+  for (double v : tile.rest_lengths) out += g(v) + "\n";
+  out += "\n";
+  header("RK");
+  for (const auto& k : tile.rest_curvatures) out += g(k[0]) + " " + g(k[1]) + "\n";
+  out += "\n";
+  header("RT");
+  for (double v : tile.rest_twists) out += g(v) + "\n";
+  out += "\n";
+  header("RefD1");
+  for (const auto& d : tile.reference_directors) out += g(d[0]) + " " + g(d[1]) + " " + g(d[2]) + "\n";
+  out += "\n";
+  header("RefT");
+  for (double v : tile.reference_twists) out += g(v) + "\n";
+  out += "\n";
+  return out;
+}
+
+void write_pyp(const PeriodicTile& tile, const std::filesystem::path& file, int significant_digits) {
+  write_text_file_atomically(file, format_pyp(tile, significant_digits));
+}
+
+}  // namespace yarnfit::db

@@ -1,0 +1,50 @@
+// The synthetic stockinette tile; the curve and its reasons are in the header.
+#include "fabrics_db/tile/synthetic_stockinette.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace yarnfit::db {
+
+std::string StockinetteTileOptions::check() const {
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(yarn_radius)) return "yarn_radius must be positive";
+  if (!positive(period_x)) return "period_x must be positive";
+  if (!positive(period_y)) return "period_y must be positive";
+  if (vertices_per_loop < 8) {
+    return "vertices_per_loop must be at least 8 (the loop has two legs, a head and a sinker), got " +
+           std::to_string(vertices_per_loop);
+  }
+  if (!positive(loop_height)) return "loop_height (h / period_y) must be positive";
+  if (!std::isfinite(bulge) || bulge < 0.0) return "bulge (a / period_x) must be zero or positive";
+  if (!positive(depth)) return "depth (c / yarn_radius) must be positive";
+  return {};
+}
+
+PeriodicTile make_stockinette_tile(const StockinetteTileOptions& options) {
+  if (const std::string why = options.check(); !why.empty()) {
+    throw std::invalid_argument("make_stockinette_tile: " + why);
+  }
+  const int n = options.vertices_per_loop;
+  const double px = options.period_x;
+  const double a = options.bulge * px;
+  const double h = options.loop_height * options.period_y;
+  const double c = options.depth * options.yarn_radius;
+
+  PeriodicTile tile;
+  tile.period_x = px;
+  tile.period_y = options.period_y;
+  tile.radius = options.yarn_radius;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2.0 * std::numbers::pi * k / n;
+    tile.positions.push_back({px * t / (2.0 * std::numbers::pi) + a * std::sin(2.0 * t),
+                              h * (1.0 - std::cos(t)) / 2.0, -c * std::cos(2.0 * t)});
+    // x(2π) = x(0) + px: the last edge ends on vertex 0 of the next tile in x.
+    tile.edges.push_back(TileEdge{k, (k + 1) % n, k + 1 == n ? 1 : 0, 0});
+  }
+  fill_tile_defaults(tile);
+  return tile;
+}
+
+}  // namespace yarnfit::db

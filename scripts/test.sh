@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# README command 2 (and CI): install dependencies, build with warnings as errors, run the
+# test suite. Data tests read ../shared; under CI=true missing data fails them.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install_deps.sh
+cmake -S . -B build-tests -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYARNFIT_WERROR=ON
+cmake --build build-tests --parallel 2
+ctest --test-dir build-tests --output-on-failure --parallel 2 --timeout 900
