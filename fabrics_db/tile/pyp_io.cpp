@@ -409,6 +409,13 @@ std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string
     std::vector<int> out_line(vertex_count > 0 ? static_cast<std::size_t>(vertex_count) : 0, 0);
     std::vector<int> in_line(out_line.size(), 0);
     std::vector<bool> edge_ok = e->ok;
+    struct Repeat {
+      int line = 0;
+      bool outgoing = false;
+      std::size_t vertex = 0;
+      int first_line = 0;
+    };
+    std::vector<Repeat> repeats;
     for (std::size_t i = 0; i < e->values.size(); ++i) {
       if (!e->ok[i]) continue;
       const auto& v = e->values[i];
@@ -434,40 +441,42 @@ std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string
       if (!edge_ok[i] || vertex_count < 0) continue;
       const auto v0 = static_cast<std::size_t>(v[0]);
       const auto v1 = static_cast<std::size_t>(v[1]);
-      const std::string rule =
-          "; every vertex needs exactly one outgoing and one incoming edge, so that yarns are "
-          "closed periodic loops";
+      // A vertex with a second outgoing (incoming) edge is reported on the line of that
+      // edge; which vertex is left without one is only known at the end.
       if (out_line[v0] != 0) {
-        report.add(line, "*E v0",
-                   "vertex " + std::to_string(v0) + " has a second outgoing edge (the first is on line " +
-                       std::to_string(out_line[v0]) + ")" + rule);
+        repeats.push_back({line, true, v0, out_line[v0]});
         edge_ok[i] = false;
       } else {
         out_line[v0] = line;
       }
       if (in_line[v1] != 0) {
-        report.add(line, "*E v1",
-                   "vertex " + std::to_string(v1) + " has a second incoming edge (the first is on line " +
-                       std::to_string(in_line[v1]) + ")" + rule);
+        repeats.push_back({line, false, v1, in_line[v1]});
         edge_ok[i] = false;
       } else {
         in_line[v1] = line;
       }
     }
-    // With as many edges as vertices, a missing edge shows up above as another vertex's second
-    // one; only report vertices left without edges when the *E rows themselves were all fine,
-    // so that one mistake gives one problem.
-    bool all_rows_fine = e->values.size() == out_line.size();
-    for (std::size_t i = 0; i < edge_ok.size(); ++i) all_rows_fine = all_rows_fine && edge_ok[i];
-    if (all_rows_fine) {
-      for (std::size_t vtx = 0; vtx < out_line.size(); ++vtx) {
-        if (out_line[vtx] == 0 || in_line[vtx] == 0) {
-          report.add(e->header_line, "*E",
-                     "vertex " + std::to_string(vtx) + " has no " +
-                         (out_line[vtx] == 0 ? "outgoing" : "incoming") +
-                         " edge; yarns must be closed periodic loops");
-        }
+    // With as many edges as vertices, every vertex without an edge goes with another vertex's
+    // second one, so reporting the second edges (naming the vertices left without) gives one
+    // problem per mistake. Vertices left without an edge because of a bad row or a missing
+    // row were already reported there.
+    const auto without = [&](const std::vector<int>& lines, const char* kind) {
+      std::vector<std::string> names;
+      for (std::size_t vtx = 0; vtx < lines.size(); ++vtx) {
+        if (lines[vtx] == 0) names.push_back(std::to_string(vtx));
       }
+      if (names.empty()) return std::string();
+      return "; vert" + std::string(names.size() == 1 ? "ex " : "ices ") + join_words(names, " and ") +
+             " ha" + (names.size() == 1 ? "s" : "ve") + " no " + kind + " edge";
+    };
+    for (const Repeat& r : repeats) {
+      const char* kind = r.outgoing ? "outgoing" : "incoming";
+      report.add(r.line, r.outgoing ? "*E v0" : "*E v1",
+                 "vertex " + std::to_string(r.vertex) + " has a second " + kind +
+                     " edge (the first is on line " + std::to_string(r.first_line) + ")" +
+                     without(r.outgoing ? out_line : in_line, kind) +
+                     "; every vertex needs exactly one outgoing and one incoming edge, so that "
+                     "yarns are closed periodic loops");
     }
     // Zero-length edges need the positions and the periods.
     if (q != nullptr && pattern_ok) {
