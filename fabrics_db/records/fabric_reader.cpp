@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <set>
+#include <stdexcept>
 #include <algorithm>
 #include <cctype>
 
@@ -253,6 +254,15 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
               "unreadable pattern '" + file->string() + "' (" + std::to_string(tile_problems.size()) +
                   " problem" + (tile_problems.size() == 1 ? "" : "s") + ", listed below)");
     problems.append(tile_problems);
+    return;
+  }
+  // The tile's facts (R_est) are computed from its geometry; a geometry no knit could have,
+  // such as edges spanning thousands of periods, is an input problem, not a crash later.
+  try {
+    (void)compute_tile_facts(*tile);
+  } catch (const std::invalid_argument& e) {
+    y.problem(YamlChecker::find(node, "file").first, "pattern.file",
+              "pattern '" + file->string() + "' has an impossible geometry: " + e.what());
     return;
   }
   ref.file = *file;

@@ -58,13 +58,28 @@ std::array<double, 3> default_reference_director(const std::array<double, 3>& ta
 
 // Reads a pyp file. Every problem is added to `problems` (file, line, section, message);
 // the result is empty when any problem was found, so no caller sees a half-read tile.
+// Sections start with a line "*NAME", optionally followed by "# comment"; blank lines and
+// text after '#' are ignored; CRLF line endings are accepted. *pattern, *Q and *E are
+// required, the others get the defaults of fill_tile_defaults. Rejected, each with its
+// line and a field such as "*E v1": unknown or repeated sections, rows before the first
+// section, a row count other than n (or 1 for *pattern), a file ending inside a section or
+// before a required one, a wrong number of values on a row, text, NaN or Inf for a number,
+// a non-integer in *E, non-positive px, py, radius or n, vertex indices outside [0, n),
+// period offsets outside {-1, 0, 1}, a vertex without exactly one outgoing and one incoming
+// edge, zero-length edges, non-positive rest lengths and reference directors that are not
+// unit vectors (±1e-3: the HYLC files store single precision). A missing or unreadable file
+// is one problem on line 0, field "file".
 std::optional<PeriodicTile> read_pyp(const std::filesystem::path& file, Problems& problems);
 // Same, from text already in memory; `file_label` is used in problem messages.
 std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string& file_label,
                                       Problems& problems);
 
-// Writes `tile` in pyp layout with `significant_digits` digits per value (17 reproduces
-// every double exactly). Throws std::runtime_error if the file cannot be written.
+// Writes `tile` in pyp layout with `significant_digits` digits per value ("%.*g"; 17
+// reproduces every double exactly): every section in the order and with the header comments
+// of the HYLC files, a blank line after each. write_pyp replaces `file` through a temporary
+// file in the same folder and a rename, and throws std::runtime_error naming the file if it
+// cannot be written. Both throw std::invalid_argument if the tile's arrays disagree in size
+// or significant_digits < 1.
 void write_pyp(const PeriodicTile& tile, const std::filesystem::path& file,
                int significant_digits = 17);
 std::string format_pyp(const PeriodicTile& tile, int significant_digits = 17);
@@ -89,10 +104,15 @@ struct TileFacts {
   //   R_est = max_a D_a / 2,  D_a = min over contact candidates b of dist(a, b),
   // with dist the exact centreline distance between segments. Candidates are all edges of
   // the tile and of its copies shifted by (i·px, j·py), except a itself and the two edges
-  // sharing a vertex with it. Two segments of the same infinite yarn (same cycle, shift a
-  // multiple k of the yarn's net offset) count only if the yarn between them is longer than
-  // (π/2)·dist: a yarn of radius R touching itself through a U-turn has at least πR of arc
-  // between points 2R apart, while nearby segments of a straight yarn have arc ≈ distance.
+  // sharing a vertex with it. Two segments on the same infinite yarn count only if the yarn
+  // between them is longer than (π/2)·dist: a yarn of radius R touching itself through a
+  // U-turn has at least πR of arc between points 2R apart, while nearby segments of a
+  // straight yarn have arc ≈ distance. The copy of b shifted by s is on a's infinite yarn
+  // when both are edges of one cycle and s + c_a − c_b = k·(net offset of the cycle), with
+  // c_e the offsets summed along the cycle before edge e; the arc between them is then
+  // measured with that copy k yarn lengths further along. (Comparing s alone with the net
+  // offset, ignoring c, mistakes copies across the tile boundary and changes R_est when a
+  // vertex is moved by a whole period.)
   double r_est = 0.0;
   int r_est_edge = -1;  // the edge a attaining the maximum
   // Smallest centreline distance between contact candidates [m]; 0 means yarns intersect.
@@ -100,6 +120,8 @@ struct TileFacts {
   std::vector<double> segment_contact_distances;  // D_a per edge, #E [m]
 };
 
+// Throws std::invalid_argument for a tile that is not closed loops (see read_pyp) or whose
+// edges span so many periods that the contact search would not end in reasonable time.
 TileFacts compute_tile_facts(const PeriodicTile& tile);
 
 }  // namespace yarnfit::db

@@ -169,28 +169,20 @@ TileFacts compute_tile_facts(const PeriodicTile& tile) {
   }
   facts.mean_segment_length = facts.total_length / n;
 
-  // R_est. Copies of the tile are searched shell by shell (Chebyshev radius r of the shift
-  // (i, j)) until no copy can hold a closer candidate: a copy in shell r is at least
-  // min(r·px − Wx, r·py − Wy) away from every segment, with W the extent of the tile's
-  // segments. For the HYLC tiles this stops within |i|, |j| ≤ 2.
-  Vec3 lo = segs[0].lo;
-  Vec3 hi = segs[0].hi;
-  for (const auto& s : segs) {
-    for (std::size_t c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], s.lo[c]);
-      hi[c] = std::max(hi[c], s.hi[c]);
-    }
-  }
-  const double wx = hi[0] - lo[0];
-  const double wy = hi[1] - lo[1];
-  const auto shell_lower_bound = [&](int r) {
-    return std::max(0.0, std::min(r * tile.period_x - wx, r * tile.period_y - wy));
-  };
+  // R_est. For each segment a, copies of every segment b are searched in two passes: first
+  // the 3 × 3 copies around the copy of b nearest to a, which gives a finite bound (among
+  // them are a's own copies one period away, which lie on other yarns); then every copy
+  // whose bounding box comes within that bound of a's box. The second pass is exact however
+  // far from each other the tile's description puts its yarns; for the HYLC tiles it stays
+  // within |i|, |j| ≤ 2.
   constexpr double inf = std::numeric_limits<double>::infinity();
   // A yarn of radius R bending back onto itself through a U-turn has at least πR of yarn
   // between the touching points at distance 2R, i.e. an arc gap g ≥ (π/2)·d. A straight or
   // gently curved yarn has g ≈ d between nearby segments, which is no contact.
   constexpr double self_contact_ratio = std::numbers::pi / 2.0;
+  // A pair of segments needing more copies than this means a tile whose edges span far more
+  // than a period: a broken tile, not a knit.
+  constexpr double max_copies_per_pair = 1e5;
 
   facts.segment_contact_distances.assign(nu, inf);
   for (int ia = 0; ia < n; ++ia) {
@@ -198,47 +190,58 @@ TileFacts compute_tile_facts(const PeriodicTile& tile) {
     const PeriodicYarn& ya = facts.yarns[static_cast<std::size_t>(a.yarn)];
     const bool ring = ya.offset_x == 0 && ya.offset_y == 0;
     double best = inf;
-    const auto visit = [&](int i, int j) {
+    // Distance from a to the copy of b shifted by (i·px, j·py), if it is a contact candidate
+    // closer than `best`.
+    const auto visit = [&](int ib, int i, int j) {
+      const Segment& b = segs[static_cast<std::size_t>(ib)];
       const double sx = i * tile.period_x;
       const double sy = j * tile.period_y;
-      for (int ib = 0; ib < n; ++ib) {
-        const Segment& b = segs[static_cast<std::size_t>(ib)];
-        // Cheap box test first: the boxes' distance bounds the segments' distance.
-        const double gx = std::max({0.0, b.lo[0] + sx - a.hi[0], a.lo[0] - b.hi[0] - sx});
-        const double gy = std::max({0.0, b.lo[1] + sy - a.hi[1], a.lo[1] - b.hi[1] - sy});
-        const double gz = std::max({0.0, b.lo[2] - a.hi[2], a.lo[2] - b.hi[2]});
-        if (gx * gx + gy * gy + gz * gz >= best * best) continue;
-        if (ib == ia && i == 0 && j == 0) continue;
-        if ((ib == a.next && i == a.next_dx && j == a.next_dy) ||
-            (ib == a.prev && i == a.prev_dx && j == a.prev_dy)) {
-          continue;  // shares a vertex with a along the yarn
-        }
-        const Vec3 q0 = {b.p0[0] + sx, b.p0[1] + sy, b.p0[2]};
-        const Vec3 q1 = {b.p1[0] + sx, b.p1[1] + sy, b.p1[2]};
-        const double d = segment_segment_distance(a.p0, a.p1, q0, q1);
-        if (d >= best) continue;
-        int k = 0;
-        if (b.yarn == a.yarn &&
-            same_infinite_yarn(i + a.cx - b.cx, j + a.cy - b.cy, ya.offset_x, ya.offset_y, k)) {
-          if (!(arc_gap(a, b, k, ya.length, ring) > self_contact_ratio * d)) continue;
-        }
-        best = d;
+      // Cheap box test first: the boxes' distance bounds the segments' distance.
+      const double gx = std::max({0.0, b.lo[0] + sx - a.hi[0], a.lo[0] - b.hi[0] - sx});
+      const double gy = std::max({0.0, b.lo[1] + sy - a.hi[1], a.lo[1] - b.hi[1] - sy});
+      const double gz = std::max({0.0, b.lo[2] - a.hi[2], a.lo[2] - b.hi[2]});
+      if (gx * gx + gy * gy + gz * gz >= best * best) return;
+      if (ib == ia && i == 0 && j == 0) return;
+      if ((ib == a.next && i == a.next_dx && j == a.next_dy) ||
+          (ib == a.prev && i == a.prev_dx && j == a.prev_dy)) {
+        return;  // shares a vertex with a along the yarn
       }
+      const Vec3 q0 = {b.p0[0] + sx, b.p0[1] + sy, b.p0[2]};
+      const Vec3 q1 = {b.p1[0] + sx, b.p1[1] + sy, b.p1[2]};
+      const double d = segment_segment_distance(a.p0, a.p1, q0, q1);
+      if (d >= best) return;
+      int k = 0;
+      if (b.yarn == a.yarn &&
+          same_infinite_yarn(i + a.cx - b.cx, j + a.cy - b.cy, ya.offset_x, ya.offset_y, k)) {
+        if (!(arc_gap(a, b, k, ya.length, ring) > self_contact_ratio * d)) return;
+      }
+      best = d;
     };
-    visit(0, 0);
-    for (int r = 1;; ++r) {
-      if (shell_lower_bound(r) >= best) break;
-      if (r > 10000) {
-        throw std::runtime_error("compute_tile_facts: no contact candidate found for edge " +
-                                 std::to_string(ia));
+    for (int ib = 0; ib < n; ++ib) {
+      const Segment& b = segs[static_cast<std::size_t>(ib)];
+      const int i0 = static_cast<int>(std::lround((a.lo[0] + a.hi[0] - b.lo[0] - b.hi[0]) / (2 * tile.period_x)));
+      const int j0 = static_cast<int>(std::lround((a.lo[1] + a.hi[1] - b.lo[1] - b.hi[1]) / (2 * tile.period_y)));
+      for (int i = i0 - 1; i <= i0 + 1; ++i) {
+        for (int j = j0 - 1; j <= j0 + 1; ++j) visit(ib, i, j);
       }
-      for (int i = -r; i <= r; ++i) {
-        visit(i, -r);
-        visit(i, r);
+    }
+    for (int ib = 0; ib < n; ++ib) {
+      const Segment& b = segs[static_cast<std::size_t>(ib)];
+      // Copies whose box is within `best` of a's box along x and along y.
+      const double ilo = std::ceil((a.lo[0] - b.hi[0] - best) / tile.period_x);
+      const double ihi = std::floor((a.hi[0] - b.lo[0] + best) / tile.period_x);
+      const double jlo = std::ceil((a.lo[1] - b.hi[1] - best) / tile.period_y);
+      const double jhi = std::floor((a.hi[1] - b.lo[1] + best) / tile.period_y);
+      if (ihi < ilo || jhi < jlo) continue;
+      if ((ihi - ilo + 1) * (jhi - jlo + 1) > max_copies_per_pair) {
+        throw std::invalid_argument(
+            "compute_tile_facts: edges " + std::to_string(ia) + " and " + std::to_string(ib) +
+            " would need more than " + std::to_string(static_cast<long>(max_copies_per_pair)) +
+            " periodic copies checked; the tile's edges span far more than its periods (" +
+            std::to_string(tile.period_x) + " m × " + std::to_string(tile.period_y) + " m)");
       }
-      for (int j = -r + 1; j <= r - 1; ++j) {
-        visit(-r, j);
-        visit(r, j);
+      for (int i = static_cast<int>(ilo); i <= static_cast<int>(ihi); ++i) {
+        for (int j = static_cast<int>(jlo); j <= static_cast<int>(jhi); ++j) visit(ib, i, j);
       }
     }
     facts.segment_contact_distances[static_cast<std::size_t>(ia)] = best;

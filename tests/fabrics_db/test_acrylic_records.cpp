@@ -50,7 +50,9 @@ TEST_F(AcrylicRecords, FourValidFabricsWithWeftAndWarpTests) {
       EXPECT_NEAR(*t.gauge.width, 1e-3 * yaml_number(yaml, "undeformed_gauge_width_mm"), 1e-9);
       EXPECT_GE(t.swatch.width, *t.gauge.width);
       const double recorded = 1e-3 * yaml_number(yaml, "fabric_width_at_clamp_mm");
-      if (recorded >= *t.gauge.width) EXPECT_NEAR(t.swatch.width, recorded, 1e-9);
+      if (recorded >= *t.gauge.width) {
+        EXPECT_NEAR(t.swatch.width, recorded, 1e-9);
+      }
       EXPECT_EQ(t.curve.size(), 25u);
       EXPECT_TRUE(t.curve.has_compression());
       EXPECT_DOUBLE_EQ(t.curve.stretch.front(), 0.0);

@@ -51,7 +51,7 @@ TEST(Database, ValidateReportsEveryProblemOfEveryFabricInOneRun) {
   const auto r = run_cli("db validate " + quoted(dir.path()));
   EXPECT_EQ(r.exit_code, 2);
   const std::string root = dir.path().string();
-  for (const std::string expected : {
+  for (const std::string& expected : {
            root + "/bad_yaml/fabric.yaml:16: stretch_tests.left: unknown direction",
            root + "/bad_yaml/fabric.yaml:14: swatch.width_mm: must be positive",
            root + "/bad_csv/stretch_warp.csv:3: force_N: NaN is not a valid value",
