@@ -389,6 +389,16 @@ TEST(TileFacts, RibIsQuick) {
 // ---------------------------------------------------------------------------------------------
 // The synthetic stockinette tile.
 
+// The synthetic stockinette's promise: no yarn closer than 1.6 radii to another, and an
+// R_est between 0.8 and 1.6 radii.
+void expect_collision_free_with_sane_r_est(const StockinetteTileOptions& options) {
+  const PeriodicTile tile = make_stockinette_tile(options);
+  const TileFacts f = compute_tile_facts(tile);
+  EXPECT_GE(f.min_contact_distance, 1.6 * tile.radius);
+  EXPECT_GE(f.r_est, 0.8 * tile.radius);
+  EXPECT_LE(f.r_est, 1.6 * tile.radius);
+}
+
 TEST(StockinetteTile, DefaultTileIsCollisionFreeAndNearlyTouching) {
   const StockinetteTileOptions options;
   const PeriodicTile tile = make_stockinette_tile(options);
@@ -409,11 +419,7 @@ TEST(StockinetteTile, OtherSamplingsStayCollisionFree) {
     SCOPED_TRACE(n);
     StockinetteTileOptions options;
     options.vertices_per_loop = n;
-    const PeriodicTile tile = make_stockinette_tile(options);
-    const TileFacts f = compute_tile_facts(tile);
-    EXPECT_GE(f.min_contact_distance, 1.6 * tile.radius);
-    EXPECT_GE(f.r_est, 0.8 * tile.radius);
-    EXPECT_LE(f.r_est, 1.6 * tile.radius);
+    expect_collision_free_with_sane_r_est(options);
   }
 }
 
@@ -426,11 +432,7 @@ TEST(StockinetteTile, SmallChangesOfTheShapeStayCollisionFree) {
                           &options.depth};
       *values[option] *= factor;
       SCOPED_TRACE(::testing::Message() << "option " << option << " x " << factor);
-      const PeriodicTile tile = make_stockinette_tile(options);
-      const TileFacts f = compute_tile_facts(tile);
-      EXPECT_GE(f.min_contact_distance, 1.6 * tile.radius);
-      EXPECT_GE(f.r_est, 0.8 * tile.radius);
-      EXPECT_LE(f.r_est, 1.6 * tile.radius);
+      expect_collision_free_with_sane_r_est(options);
     }
   }
 }
