@@ -81,7 +81,7 @@ void print_fabric(std::ostream& out, const json& f) {
         << g(y["linear_density_kg_per_m"], 4, 1e6) << " mg/m, stiffness "
         << (y["stiffness_N"].is_null() ? "not given" : g(y["stiffness_N"]) + " N") << "\n";
   }
-  out << "  swatch: " << size_mm(f["swatch"]) << "\n";
+  out << "  swatch: " << (f["swatch"].is_null() ? "given per test" : size_mm(f["swatch"])) << "\n";
   out << "  stretch tests:\n";
   for (const auto& [dir, t] : in_direction_order(f["stretch_tests"])) {
     out << "    " << std::left << std::setw(5) << dir << std::right << " " << t["points"].get<int>()
