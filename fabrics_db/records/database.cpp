@@ -1,7 +1,6 @@
 #include "fabrics_db/records/database.hpp"
 
 #include <algorithm>
-#include <fstream>
 #include <map>
 
 namespace yarnfit::db {
@@ -21,16 +20,6 @@ Problems DatabaseLoad::all_problems() const {
 
 namespace {
 
-// Line of the `id:` key in a fabric.yaml (for duplicate-id messages), or 0.
-int id_line(const fs::path& yaml) {
-  std::ifstream in(yaml);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.rfind("id:", 0) == 0) return n;
-  }
-  return 0;
-}
-
 void mark_duplicate_ids(DatabaseLoad& db) {
   std::map<std::string, std::vector<std::size_t>> by_id;
   for (std::size_t i = 0; i < db.fabrics.size(); ++i) {
@@ -47,7 +36,7 @@ void mark_duplicate_ids(DatabaseLoad& db) {
       const fs::path yaml = f.folder / k_fabric_file_name;
       std::string list;
       for (const auto& o : others) list += (list.empty() ? "" : ", ") + o;
-      f.problems.add(yaml.string(), id_line(yaml), "id",
+      f.problems.add(yaml.string(), f.id_line, "id",
                      "duplicate id '" + id + "' in the database (also used by " + list + ")");
       f.fabric.reset();
     }

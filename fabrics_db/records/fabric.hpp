@@ -92,6 +92,7 @@ struct PatternRef {
   std::filesystem::path file;  // resolved path of the .pyp tile
   Axis weft_axis = Axis::x;    // tile axis that runs along the weft
   PeriodicTile tile;
+  TileFacts facts;             // computed once when the record is read
 };
 
 struct Fabric {

@@ -259,7 +259,7 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
   // The tile's facts (R_est) are computed from its geometry; a geometry no knit could have,
   // such as edges spanning thousands of periods, is an input problem, not a crash later.
   try {
-    (void)compute_tile_facts(*tile);
+    ref.facts = compute_tile_facts(*tile);
   } catch (const std::invalid_argument& e) {
     y.problem(YamlChecker::find(node, "file").first, "pattern.file",
               "pattern '" + file->string() + "' has an impossible geometry: " + e.what());
@@ -465,6 +465,7 @@ FabricLoad load_fabric(const fs::path& folder) {
   fabric.family = y.text(doc, "family", "", true).value_or("");
   fabric.description = y.text(doc, "description", "", false).value_or("");
   load.id = fabric.id;
+  load.id_line = YamlChecker::line_of(YamlChecker::find(doc, "id").first);
   load.family = fabric.family;
   if (const auto rho = y.number(doc, "areal_density_gsm", "", false, true)) {
     fabric.areal_density = *rho * k_gsm;

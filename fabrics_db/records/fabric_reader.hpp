@@ -19,6 +19,7 @@ struct FabricLoad {
   std::filesystem::path folder;
   std::string id;      // best effort, also when invalid (for listings); may be empty
   std::string family;  // best effort
+  int id_line = 0;     // line of the id key in fabric.yaml, 0 if absent
   std::optional<Fabric> fabric;  // present only when `problems` is empty
   Problems problems;
 

@@ -110,7 +110,7 @@ json describe_fabric(const Fabric& fabric) {
          {"bending_tests", bending},
          {"ground_truth", fabric.ground_truth}};
   if (fabric.pattern) {
-    json p = describe_tile(fabric.pattern->tile, compute_tile_facts(fabric.pattern->tile));
+    json p = describe_tile(fabric.pattern->tile, fabric.pattern->facts);
     p["file"] = fabric.pattern->file.string();
     p["weft_axis"] = fabric.pattern->weft_axis == Axis::x ? "x" : "y";
     j["pattern"] = p;
