@@ -11,5 +11,6 @@ inline constexpr int k_exit_internal = 1;
 inline constexpr int k_exit_invalid_input = 2;
 
 void add_db_commands(CLI::App& app, int& exit_code);
+void add_shell_commands(CLI::App& app, int& exit_code);
 
 }  // namespace yarnfit::cli

@@ -1,0 +1,75 @@
+#pragma once
+// In-plane constitutive law of the thin shell: anisotropic StVK augmented with a Neo-Hookean
+// area term (thesis 6.3.1, eq. 6.1; SPEC §3 "Shell").
+//
+//   Ψ(F) = ½ εᵀ K ε + kn1 (J − 1)² + kn2 log² J                                  (6.1) [J/m²]
+//   E   = ½ (FᵀF − I)                    Green strain in the lab frame
+//   E_m = Rᵀ E R                         the same strain in the material frame, R = rot(φ)
+//   ε   = (E_m11, E_m22, 2 E_m12)        Voigt strain, weft = material x
+//   K   = [[kxx, kxy, 0], [kxy, kyy, 0], [0, 0, kss]]
+//   φ   = material angle: weft axis measured from the lab x axis (0 weft, π/4 bias, π/2 warp)
+//
+// Stresses (derivation in inplane_material.cpp):
+//   S_m = [[kxx ε1 + kxy ε2, kss ε3], [kss ε3, kxy ε1 + kyy ε2]],  S = R S_m Rᵀ  (2nd PK, StVK)
+//   P   = F S + f'(J) ∂J/∂F,   f(J) = kn1 (J − 1)² + kn2 log² J                       (3.23)
+//
+// Two kinematic settings share the law:
+// * planar F (2×2): J = det F, signed. An inverted element (J ≤ 0) has Ψ = +∞ when kn2 ≠ 0
+//   (the log barrier; pk1/dpk1 then return zeros and callers check validity); with kn2 = 0
+//   the log term is absent and (J − 1)² is evaluated with the signed J, as in plain StVK.
+// * surface F (3×2, a triangle embedded in 3-D): C = FᵀF, J = √det C ≥ 0, and ∂J/∂F =
+//   F adj(C)/J. At J = 0 (a degenerate triangle) Ψ is +∞ when kn2 ≠ 0; with kn2 = 0 the
+//   value is finite but √det C is not differentiable, so the area term's derivatives are
+//   dropped there (never NaN).
+//
+// The law is linear in each of the six parameters, which the fit exploits (see
+// MembraneTerm::add_gradient_per_parameter).
+
+#include <Eigen/Core>
+
+#include "shell_fit/core/shell_params.hpp"
+
+namespace yarnfit::shell {
+
+class InplaneMaterial {
+ public:
+  // `material_angle`: weft axis angle from the lab x axis [rad].
+  InplaneMaterial(const InplaneParams& p, double material_angle);
+
+  // Planar 2×2 deformation gradient in the lab frame; J = det F (signed).
+  // Energy density [J/m²]: +∞ when J ≤ 0 and kn2 ≠ 0; never NaN for finite F.
+  [[nodiscard]] double psi(const Eigen::Matrix2d& F) const;
+  // First Piola-Kirchhoff stress ∂Ψ/∂F [N/m]; zeros where Ψ = +∞.
+  [[nodiscard]] Eigen::Matrix2d pk1(const Eigen::Matrix2d& F) const;
+  // ∂²Ψ/∂F∂F, rows and columns indexed by vec(F) column-major: (F00, F10, F01, F11).
+  [[nodiscard]] Eigen::Matrix4d dpk1(const Eigen::Matrix2d& F) const;
+
+  // Surface 3×2 deformation gradient of a triangle in 3-D; J = √det(FᵀF).
+  // (Named apart from the planar overloads so that Eigen expressions convert unambiguously.)
+  [[nodiscard]] double psi_surface(const Eigen::Matrix<double, 3, 2>& F) const;
+  [[nodiscard]] Eigen::Matrix<double, 3, 2> pk1_surface(const Eigen::Matrix<double, 3, 2>& F) const;
+  // 6×6, vec(F) column-major: (F00, F10, F20, F01, F11, F21).
+  [[nodiscard]] Eigen::Matrix<double, 6, 6> dpk1_surface(
+      const Eigen::Matrix<double, 3, 2>& F) const;
+
+  [[nodiscard]] const InplaneParams& params() const { return m_params; }
+  [[nodiscard]] double material_angle() const { return m_material_angle; }
+
+  // Second Piola-Kirchhoff stress of the StVK part in the lab frame, S = R 𝕂(Rᵀ E R) Rᵀ,
+  // for a symmetric lab-frame strain E. Linear in E.
+  [[nodiscard]] Eigen::Matrix2d stvk_stress(const Eigen::Matrix2d& E) const;
+
+ private:
+  // True when the log-barrier term is present (kn2 ≠ 0): the domain is then J > 0.
+  [[nodiscard]] bool has_barrier() const { return m_params.kn2 != 0.0; }
+  // f(J), f'(J), f''(J) of the area term; J > 0 when has_barrier().
+  [[nodiscard]] double area_energy(double J) const;
+  [[nodiscard]] double area_d1(double J) const;
+  [[nodiscard]] double area_d2(double J) const;
+
+  InplaneParams m_params;
+  double m_material_angle = 0.0;
+  Eigen::Matrix2d m_rotation;  // columns: weft and warp axes in the lab frame
+};
+
+}  // namespace yarnfit::shell

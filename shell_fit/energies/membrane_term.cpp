@@ -1,0 +1,277 @@
+#include "shell_fit/energies/membrane_term.hpp"
+
+#include <Eigen/LU>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+#include "shell_fit/energies/psd_projection.hpp"
+
+namespace yarnfit::shell {
+
+namespace {
+
+// Below this many elements the OpenMP team costs more than it saves.
+constexpr int parallel_threshold = 512;
+
+InplaneParams unit_params(int k) {
+  InplaneParams p;
+  switch (k) {
+    case 0:
+      p.kxx = 1.0;
+      break;
+    case 1:
+      p.kxy = 1.0;
+      break;
+    case 2:
+      p.kyy = 1.0;
+      break;
+    case 3:
+      p.kss = 1.0;
+      break;
+    case 4:
+      p.kn1 = 1.0;
+      break;
+    default:
+      p.kn2 = 1.0;
+      break;
+  }
+  return p;
+}
+
+std::array<InplaneMaterial, MembraneTerm::parameter_count> unit_materials(double angle) {
+  return {InplaneMaterial(unit_params(0), angle), InplaneMaterial(unit_params(1), angle),
+          InplaneMaterial(unit_params(2), angle), InplaneMaterial(unit_params(3), angle),
+          InplaneMaterial(unit_params(4), angle), InplaneMaterial(unit_params(5), angle)};
+}
+
+// The per-element kernels, written once for dim = 2 and dim = 3 (Dim rows of F).
+template <int Dim>
+struct Kernel {
+  static constexpr int n = 3 * Dim;  // local dofs
+  using MatrixF = Eigen::Matrix<double, Dim, 2>;
+  using VectorL = Eigen::Matrix<double, n, 1>;
+  using MatrixL = Eigen::Matrix<double, n, n>;
+
+  static MatrixF deformation_gradient(const MembraneTerm::Element& e, const Eigen::VectorXd& x) {
+    MatrixF F = MatrixF::Zero();
+    for (int i = 0; i < 3; ++i) {
+      F.noalias() += x.segment<Dim>(Dim * e.v[static_cast<std::size_t>(i)]) * e.b.row(i);
+    }
+    return F;
+  }
+
+  // The planar and the surface law (J = det F vs J = √det C).
+  static double psi(const InplaneMaterial& m, const MatrixF& F) {
+    if constexpr (Dim == 2) {
+      return m.psi(F);
+    } else {
+      return m.psi_surface(F);
+    }
+  }
+  static MatrixF pk1(const InplaneMaterial& m, const MatrixF& F) {
+    if constexpr (Dim == 2) {
+      return m.pk1(F);
+    } else {
+      return m.pk1_surface(F);
+    }
+  }
+  static Eigen::Matrix<double, 2 * Dim, 2 * Dim> dpk1(const InplaneMaterial& m, const MatrixF& F) {
+    if constexpr (Dim == 2) {
+      return m.dpk1(F);
+    } else {
+      return m.dpk1_surface(F);
+    }
+  }
+
+  static double value(const InplaneMaterial& m, const MembraneTerm::Element& e,
+                      const Eigen::VectorXd& x) {
+    return e.area * psi(m, deformation_gradient(e, x));
+  }
+
+  // ∂E_t/∂x_i = A P b_i
+  static VectorL gradient(const InplaneMaterial& m, const MembraneTerm::Element& e,
+                          const Eigen::VectorXd& x) {
+    const MatrixF P = pk1(m, deformation_gradient(e, x));
+    VectorL g;
+    for (int i = 0; i < 3; ++i)
+      g.template segment<Dim>(Dim * i) = e.area * (P * e.b.row(i).transpose());
+    return g;
+  }
+
+  // A Gᵀ (∂P/∂F) G with G = ∂vec(F)/∂x_local: G(k + Dim j, Dim i + k) = b_i[j].
+  static MatrixL hessian(const InplaneMaterial& m, const MembraneTerm::Element& e,
+                         const Eigen::VectorXd& x) {
+    const auto D = dpk1(m, deformation_gradient(e, x));
+    Eigen::Matrix<double, 2 * Dim, n> G = Eigen::Matrix<double, 2 * Dim, n>::Zero();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 2; ++j) {
+        for (int k = 0; k < Dim; ++k) G(k + Dim * j, Dim * i + k) = e.b(i, j);
+      }
+    }
+    return e.area * (G.transpose() * D * G);
+  }
+};
+
+void check_size(const Eigen::VectorXd& x, int dofs, const char* what) {
+  if (x.size() != dofs) {
+    throw std::invalid_argument(std::string("MembraneTerm::") + what + ": expected " +
+                                std::to_string(dofs) + " coordinates, got " +
+                                std::to_string(x.size()));
+  }
+}
+
+template <int Dim>
+double sum_values(const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m,
+                  const Eigen::VectorXd& x) {
+  const int count = static_cast<int>(elements.size());
+  std::vector<double> values(elements.size());
+  // Per-element values summed serially afterwards: the total does not depend on the thread
+  // count, which keeps line searches and finite-difference checks reproducible.
+#pragma omp parallel for schedule(static) if (count > parallel_threshold)
+  for (int t = 0; t < count; ++t) {
+    values[static_cast<std::size_t>(t)] =
+        Kernel<Dim>::value(m, elements[static_cast<std::size_t>(t)], x);
+  }
+  double total = 0.0;
+  for (const double v : values) total += v;
+  return total;
+}
+
+template <int Dim>
+void scatter_gradients(const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m,
+                       const Eigen::VectorXd& x, double* g) {
+  using K = Kernel<Dim>;
+  const int count = static_cast<int>(elements.size());
+  std::vector<typename K::VectorL> local(elements.size());
+#pragma omp parallel for schedule(static) if (count > parallel_threshold)
+  for (int t = 0; t < count; ++t) {
+    local[static_cast<std::size_t>(t)] = K::gradient(m, elements[static_cast<std::size_t>(t)], x);
+  }
+  for (std::size_t t = 0; t < elements.size(); ++t) {
+    for (int i = 0; i < 3; ++i) {
+      const int v = elements[t].v[static_cast<std::size_t>(i)];
+      for (int k = 0; k < Dim; ++k) g[Dim * v + k] += local[t](Dim * i + k);
+    }
+  }
+}
+
+template <int Dim>
+void append_hessian(const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m,
+                    const Eigen::VectorXd& x, Triplets& h, bool project) {
+  using K = Kernel<Dim>;
+  constexpr int n = K::n;
+  const int count = static_cast<int>(elements.size());
+  const std::size_t start = h.size();
+  // Each element owns a fixed slice of the triplet list, so threads write without locks and
+  // the order is the same for any thread count.
+  h.resize(start + elements.size() * static_cast<std::size_t>(n * n));
+#pragma omp parallel for schedule(static) if (count > parallel_threshold)
+  for (int t = 0; t < count; ++t) {
+    const auto& e = elements[static_cast<std::size_t>(t)];
+    typename K::MatrixL block = K::hessian(m, e, x);
+    if (project) project_psd<n>(block);
+    std::size_t out = start + static_cast<std::size_t>(t) * static_cast<std::size_t>(n * n);
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < Dim; ++k) {
+        const int row = Dim * e.v[static_cast<std::size_t>(i)] + k;
+        for (int j = 0; j < 3; ++j) {
+          for (int l = 0; l < Dim; ++l) {
+            const int col = Dim * e.v[static_cast<std::size_t>(j)] + l;
+            h[out++] = Eigen::Triplet<double>(row, col, block(Dim * i + k, Dim * j + l));
+          }
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+MembraneTerm::MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, int dim)
+    : m_dim(dim),
+      m_vertex_count(mesh.vertex_count()),
+      m_material(params, mesh.material_angle),
+      m_unit_materials(unit_materials(mesh.material_angle)) {
+  if (dim != 2 && dim != 3) {
+    throw std::invalid_argument("MembraneTerm: dim must be 2 or 3, got " + std::to_string(dim));
+  }
+  m_elements.reserve(static_cast<std::size_t>(mesh.triangle_count()));
+  for (int t = 0; t < mesh.triangle_count(); ++t) {
+    Element e;
+    for (int i = 0; i < 3; ++i) e.v[static_cast<std::size_t>(i)] = mesh.triangles(t, i);
+    const Eigen::Vector2d X0 = mesh.rest.row(e.v[0]).transpose();
+    Eigen::Matrix2d Dm;
+    Dm.col(0) = mesh.rest.row(e.v[1]).transpose() - X0;
+    Dm.col(1) = mesh.rest.row(e.v[2]).transpose() - X0;
+    e.area = 0.5 * Dm.determinant();
+    if (!(e.area > 0.0)) {
+      throw std::invalid_argument("MembraneTerm: triangle " + std::to_string(t) +
+                                  " has non-positive rest area (must be counter-clockwise)");
+    }
+    const Eigen::Matrix2d Dm_inv = Dm.inverse();
+    e.b.row(1) = Dm_inv.row(0);
+    e.b.row(2) = Dm_inv.row(1);
+    e.b.row(0) = -(Dm_inv.row(0) + Dm_inv.row(1));
+    m_elements.push_back(e);
+  }
+}
+
+void MembraneTerm::set_params(const InplaneParams& params) {
+  m_material = InplaneMaterial(params, m_material.material_angle());
+}
+
+double MembraneTerm::value(const Eigen::VectorXd& x) const {
+  check_size(x, dof_count(), "value");
+  return m_dim == 2 ? sum_values<2>(m_elements, m_material, x)
+                    : sum_values<3>(m_elements, m_material, x);
+}
+
+void MembraneTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
+  check_size(x, dof_count(), "add_gradient");
+  check_size(g, dof_count(), "add_gradient (gradient buffer)");
+  if (m_dim == 2) {
+    scatter_gradients<2>(m_elements, m_material, x, g.data());
+  } else {
+    scatter_gradients<3>(m_elements, m_material, x, g.data());
+  }
+}
+
+void MembraneTerm::add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const {
+  check_size(x, dof_count(), "add_hessian");
+  if (m_dim == 2) {
+    append_hessian<2>(m_elements, m_material, x, h, project_psd);
+  } else {
+    append_hessian<3>(m_elements, m_material, x, h, project_psd);
+  }
+}
+
+void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
+  check_size(x, dof_count(), "add_gradient_per_parameter");
+  if (G.rows() != dof_count() || G.cols() != parameter_count) {
+    throw std::invalid_argument("MembraneTerm::add_gradient_per_parameter: G must be " +
+                                std::to_string(dof_count()) + " x 6, got " +
+                                std::to_string(G.rows()) + " x " + std::to_string(G.cols()));
+  }
+  for (int k = 0; k < parameter_count; ++k) {
+    const auto& m = m_unit_materials[static_cast<std::size_t>(k)];
+    double* column = G.col(k).data();  // column-major: a column is contiguous
+    if (m_dim == 2) {
+      scatter_gradients<2>(m_elements, m, x, column);
+    } else {
+      scatter_gradients<3>(m_elements, m, x, column);
+    }
+  }
+}
+
+Eigen::Matrix<double, 6, 1> MembraneTerm::value_per_parameter(const Eigen::VectorXd& x) const {
+  check_size(x, dof_count(), "value_per_parameter");
+  Eigen::Matrix<double, 6, 1> v;
+  for (int k = 0; k < parameter_count; ++k) {
+    const auto& m = m_unit_materials[static_cast<std::size_t>(k)];
+    v(k) = m_dim == 2 ? sum_values<2>(m_elements, m, x) : sum_values<3>(m_elements, m, x);
+  }
+  return v;
+}
+
+}  // namespace yarnfit::shell

@@ -1,0 +1,74 @@
+#pragma once
+// Membrane (in-plane) energy of the thin shell on linear triangles (thesis 6.3.1, SPEC §3):
+//
+//   E(x) = Σ_t A_t Ψ(F_t),   F_t = D_s D_m⁻¹                                       [J]
+//
+// with A_t the rest area, D_m = [X1 − X0, X2 − X0] the rest edge matrix (2×2, lab frame),
+// D_s = [x1 − x0, x2 − x0] the deformed one (dim×2) and Ψ the law (6.1) of InplaneMaterial.
+// dim = 2: planar scene (clamped stretch), F is 2×2 and J = det F is signed, so the log term
+// of Ψ is a barrier against inversion. dim = 3: a surface in 3-D (pear loop), F is 3×2,
+// C = FᵀF and J = √det C.
+//
+// Derivatives per element, with F = Σ_i x_i b_iᵀ (b_i the rows of B = [−1ᵀD_m⁻¹; D_m⁻¹]):
+//   ∂E/∂x_i = A P b_i,   ∂²E/∂x_i∂x_j = A (b_i ⊗ I)ᵀ ∂P/∂F (b_j ⊗ I)
+// assembled as 6×6 (dim 2) or 9×9 (dim 3) blocks, optionally projected to PSD per element.
+//
+// Ψ is linear in each parameter p = (kxx, kxy, kyy, kss, kn1, kn2), so the parameter
+// sensitivities of the energy and of its gradient are the same term evaluated with a unit
+// parameter k and the others zero (used for implicit-function sensitivities in the fit).
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "shell_fit/core/energy_term.hpp"
+#include "shell_fit/core/shell_mesh.hpp"
+#include "shell_fit/core/shell_params.hpp"
+#include "shell_fit/energies/inplane_material.hpp"
+
+namespace yarnfit::shell {
+
+class MembraneTerm final : public EnergyTerm {
+ public:
+  static constexpr int parameter_count = 6;  // kxx, kxy, kyy, kss, kn1, kn2
+
+  // Copies what it needs from `mesh` (no reference is kept). Throws std::invalid_argument when
+  // dim is not 2 or 3 or a triangle has non-positive rest area (not counter-clockwise).
+  MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, int dim);
+
+  [[nodiscard]] std::string name() const override { return "membrane"; }
+  [[nodiscard]] double value(const Eigen::VectorXd& x) const override;
+  void add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
+  void add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const override;
+
+  // Adds ∂(∇E)/∂p_k into column k of `G` (#dofs × 6), p = (kxx, kxy, kyy, kss, kn1, kn2).
+  void add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const;
+  // ∂E/∂p_k = E evaluated with unit parameter k and the others zero; so E = Σ_k p_k · entry k
+  // wherever E is finite.
+  [[nodiscard]] Eigen::Matrix<double, 6, 1> value_per_parameter(const Eigen::VectorXd& x) const;
+
+  // Changes the stiffnesses without rebuilding the rest geometry (the fit does this often).
+  void set_params(const InplaneParams& params);
+  [[nodiscard]] const InplaneMaterial& material() const { return m_material; }
+  [[nodiscard]] int dim() const { return m_dim; }
+  [[nodiscard]] int dof_count() const { return m_dim * m_vertex_count; }
+
+  // Per-element rest data, exposed for tests and stress output.
+  struct Element {
+    std::array<int, 3> v{0, 0, 0};
+    double area = 0.0;              // rest area A_t [m²]
+    Eigen::Matrix<double, 3, 2> b;  // rows b_i: F = Σ_i x_i b_iᵀ
+  };
+  [[nodiscard]] const std::vector<Element>& elements() const { return m_elements; }
+
+ private:
+  int m_dim = 2;
+  int m_vertex_count = 0;
+  std::vector<Element> m_elements;
+  InplaneMaterial m_material;
+  // The six unit-parameter laws, for the per-parameter derivatives.
+  std::array<InplaneMaterial, parameter_count> m_unit_materials;
+};
+
+}  // namespace yarnfit::shell

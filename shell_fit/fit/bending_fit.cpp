@@ -1,0 +1,416 @@
+#include "shell_fit/fit/bending_fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace yarnfit::shell {
+
+namespace {
+
+std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+
+std::string format_number(double v) {
+  std::ostringstream out;
+  out << std::setprecision(4) << v;
+  return out.str();
+}
+
+double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+  if (x <= xs.front()) return ys.front();
+  for (std::size_t i = 1; i < xs.size(); ++i) {
+    if (x <= xs[i]) {
+      const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+      return ys[i - 1] + t * (ys[i] - ys[i - 1]);
+    }
+  }
+  return ys.back();
+}
+
+// Search range of the bending length relative to the free length: from a strip that hangs
+// as a hairpin (ℓ = L/100) to one that gravity hardly bends (ℓ = 10 L).
+constexpr double k_min_length_ratio = 1e-2;
+constexpr double k_max_length_ratio = 10.0;
+
+double areal_density_of(const db::Fabric& fabric) {
+  if (!fabric.areal_density || !(*fabric.areal_density > 0.0)) {
+    throw std::invalid_argument("fabric " + fabric.id +
+                                ": bending tests need areal_density_gsm (the pear loop hangs under gravity)");
+  }
+  return *fabric.areal_density;
+}
+
+// A strip is thin while its bending stiffness is small against its membrane stiffness E
+// times L²: B ≤ 1e-4 E L², i.e. an equivalent thickness √(12 B/E) ≤ 3.5 % of L. Stiffer
+// bending stretches the membrane instead of rounding the loop (r then leaves the elastica's
+// range, and Newton struggles), so the search stops there.
+constexpr double k_thin_shell_ratio = 1e-4;
+
+// Bending-length range of one test: [L/100, 10 L], the top capped by the thin-shell limit.
+std::pair<double, double> length_bounds(const db::BendingTest& test, const InplaneParams& inplane, double rho,
+                                        double g) {
+  const double L = test.swatch.length;
+  double hi = k_max_length_ratio * L;
+  const double E = std::min(inplane.kxx, inplane.kyy);
+  if (E > 0.0) {
+    const double ktheta_thin = k_thin_shell_ratio * E * L * L / bending_stiffness_per_width(1.0);
+    hi = std::min(hi, bending_length(ktheta_thin, rho, g));
+  }
+  return {std::min(k_min_length_ratio * L, 0.5 * hi), hi};
+}
+
+BendingParams uniform(double k) {
+  BendingParams p;
+  p.ktheta = {k, k, k};
+  return p;
+}
+
+// Fills the slots no test measures with the geometric mean of the measured ones.
+void tie_unmeasured(BendingParams& p, const std::array<bool, 3>& measured) {
+  double log_sum = 0.0;
+  int n = 0;
+  for (int j = 0; j < 3; ++j)
+    if (measured[idx(j)]) {
+      log_sum += std::log(p.ktheta[idx(j)]);
+      ++n;
+    }
+  if (n == 0) return;
+  for (int j = 0; j < 3; ++j)
+    if (!measured[idx(j)]) p.ktheta[idx(j)] = std::exp(log_sum / n);
+}
+
+struct Guess {
+  BendingParams params;
+  std::array<bool, 3> measured{false, false, false};
+};
+
+Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, const BendingFitOptions& options) {
+  Guess out;
+  const double rho = areal_density_of(fabric);
+  const double g = options.gravity;
+  for (const auto& [dir, test] : fabric.bending_tests) {
+    // A coarser mesh than the fit's: the start needs ~10 %, not the fit's accuracy.
+    const PearLoopScene scene(pear_loop_setup(test, rho, 2.0 * options.target_edge, 0, g));
+    const int slot = scene.governing_ktheta();
+    out.measured[idx(slot)] = true;
+    const BendingDirectionFit t = make_bending_targets(test);
+    const std::size_t mid = t.clamp_distance.size() / 2;
+    const double d = t.clamp_distance[mid], r_target = t.measured_aspect_ratio[mid];
+    const double L = test.swatch.length;
+    const auto [ell_min, ell_max] = length_bounds(test, inplane, rho, g);
+    // r at bending length ℓ, or NaN when the loop did not reach equilibrium.
+    const auto r_at = [&](double ell) {
+      ShellParams p;
+      p.inplane = inplane;
+      p.bending = uniform(ktheta_for_bending_length(ell, rho, g));
+      const PearLoopRun run = scene.run(p, {d});
+      return run.ok ? run.samples[0].aspect_ratio : std::nan("");
+    };
+    // Bracket r_target between ℓ_lo (r above it) and ℓ_hi (r below it), doubling ℓ.
+    double ell = std::clamp(0.25 * L, ell_min, ell_max);
+    double r = r_at(ell);
+    double lo = ell_min, hi = ell_max, r_lo = std::nan(""), r_hi = std::nan("");
+    while (std::isfinite(r)) {
+      if (r > r_target) {
+        lo = ell;
+        r_lo = r;
+        if (std::isfinite(r_hi) || ell >= ell_max) break;
+        ell = std::min(2.0 * ell, ell_max);
+      } else {
+        hi = ell;
+        r_hi = r;
+        if (std::isfinite(r_lo) || ell <= ell_min) break;
+        ell = std::max(0.5 * ell, ell_min);
+      }
+      r = r_at(ell);
+    }
+    double ell_start = ell;
+    if (std::isfinite(r_lo) && std::isfinite(r_hi)) {
+      // Bisection in log ℓ to a factor 2^(1/16) (13 % in k_θ), then linear in log ℓ.
+      for (int it = 0; it < 4; ++it) {
+        const double m = std::sqrt(lo * hi);
+        const double rm = r_at(m);
+        if (!std::isfinite(rm)) break;
+        if (rm > r_target) {
+          lo = m;
+          r_lo = rm;
+        } else {
+          hi = m;
+          r_hi = rm;
+        }
+      }
+      const double frac = (r_lo - r_target) / (r_lo - r_hi);
+      ell_start = std::exp(std::log(lo) + std::clamp(frac, 0.0, 1.0) * (std::log(hi) - std::log(lo)));
+    } else if (std::isfinite(r_lo)) {
+      ell_start = ell_max;  // r stays above the data even for the stiffest strip
+    } else if (std::isfinite(r_hi)) {
+      ell_start = ell_min;  // r stays below the data even for the softest strip
+    }
+    out.params.ktheta[idx(slot)] = ktheta_for_bending_length(ell_start, rho, g);
+  }
+  tie_unmeasured(out.params, out.measured);
+  return out;
+}
+
+class LoopResiduals : public ceres::CostFunction {
+ public:
+  LoopResiduals(const std::vector<PearLoopScene>& scenes, std::vector<BendingDirectionFit>& data,
+                std::vector<PearLoopWarmStart>& warm, const std::vector<int>& free, const std::vector<int>& held,
+                const InplaneParams& inplane, int threads, int& simulations)
+      : m_scenes(scenes), m_data(data), m_warm(warm), m_free(free), m_held(held), m_inplane(inplane),
+        m_threads(threads), m_simulations(simulations) {
+    int n = 0;
+    for (const auto& d : m_data) n += static_cast<int>(d.clamp_distance.size());
+    set_num_residuals(n);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(m_free.size()));
+  }
+
+  // k_θ of every slot: the free ones from q = log k, the held ones at their geometric mean.
+  [[nodiscard]] BendingParams params_from(const double* q) const {
+    BendingParams p;
+    double mean = 0.0;
+    for (std::size_t i = 0; i < m_free.size(); ++i) {
+      p.ktheta[idx(m_free[i])] = std::exp(q[i]);
+      mean += q[i];
+    }
+    mean /= static_cast<double>(m_free.size());
+    for (int h : m_held) p.ktheta[idx(h)] = std::exp(mean);
+    return p;
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    ShellParams sp;
+    sp.inplane = m_inplane;
+    sp.bending = params_from(parameters[0]);
+    const bool want_jacobian = jacobians && jacobians[0];
+    m_runs.assign(m_data.size(), PearLoopRun{});
+#pragma omp parallel for num_threads(m_threads) schedule(dynamic)
+    for (int k = 0; k < static_cast<int>(m_data.size()); ++k) {
+      m_runs[idx(k)] = m_scenes[idx(k)].run(sp, m_data[idx(k)].clamp_distance, want_jacobian, &m_warm[idx(k)]);
+    }
+    m_simulations += static_cast<int>(m_data.size());
+    const int nf = static_cast<int>(m_free.size());
+    int r = 0;
+    for (std::size_t k = 0; k < m_data.size(); ++k) {
+      if (!m_runs[k].ok) return false;  // Ceres shrinks its step and tries again
+      auto& d = m_data[k];
+      d.simulated_aspect_ratio.clear();
+      d.max_curvature = 0.0;
+      for (std::size_t i = 0; i < d.clamp_distance.size(); ++i) {
+        const PearLoopSample& s = m_runs[k].samples[i];
+        d.simulated_aspect_ratio.push_back(s.aspect_ratio);
+        d.max_curvature = std::max(d.max_curvature, s.max_curvature);
+        residuals[r] = s.aspect_ratio - d.measured_aspect_ratio[i];
+        if (want_jacobian) {
+          // d/dq_j with k_j = exp(q_j), and every held k = exp(mean q) moving by k/n_free.
+          double held = 0.0;
+          for (int h : m_held) held += s.daspect_dktheta[h] * sp.bending.ktheta[idx(h)];
+          for (int j = 0; j < nf; ++j) {
+            const int slot = m_free[idx(j)];
+            jacobians[0][r * nf + j] = s.daspect_dktheta[slot] * sp.bending.ktheta[idx(slot)] + held / nf;
+          }
+        }
+        ++r;
+      }
+    }
+    return true;
+  }
+
+  [[nodiscard]] const std::vector<PearLoopRun>& last_runs() const { return m_runs; }
+
+ private:
+  const std::vector<PearLoopScene>& m_scenes;
+  std::vector<BendingDirectionFit>& m_data;
+  std::vector<PearLoopWarmStart>& m_warm;
+  std::vector<int> m_free, m_held;
+  InplaneParams m_inplane;
+  int m_threads;
+  int& m_simulations;
+  mutable std::vector<PearLoopRun> m_runs;
+};
+
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  explicit ProgressCallback(std::function<void(int, double, double)> fn) : m_fn(std::move(fn)) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (m_fn) m_fn(s.iteration, s.cost, s.cumulative_time_in_seconds);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::function<void(int, double, double)> m_fn;
+};
+
+}  // namespace
+
+BendingDirectionFit make_bending_targets(const db::BendingTest& test) {
+  BendingDirectionFit t;
+  t.direction = test.direction;
+  const auto& c = test.curve;
+  if (c.size() == 0) return t;
+  double lo = std::max(k_bending_min_distance, c.clamp_distance.front());
+  double hi = std::min(k_bending_max_distance, c.clamp_distance.back());
+  if (!(hi >= lo)) {
+    lo = c.clamp_distance.front();
+    hi = c.clamp_distance.back();
+  }
+  const int n = hi > lo ? k_bending_targets_per_direction : 1;
+  for (int i = 0; i < n; ++i) {
+    const double d = n == 1 ? lo : lo + (hi - lo) * i / (n - 1);
+    t.clamp_distance.push_back(d);
+    t.measured_aspect_ratio.push_back(interpolate(c.clamp_distance, c.aspect_ratio, d));
+  }
+  return t;
+}
+
+PearLoopSetup pear_loop_setup(const db::BendingTest& test, double areal_density, double target_edge,
+                              int refinements, double gravity) {
+  if (!(areal_density > 0.0)) throw std::invalid_argument("pear loop: the areal density must be positive");
+  PearLoopSetup s;
+  s.length = test.swatch.length;
+  s.width = test.swatch.width;
+  // The strip runs along the test direction: the weft lies at −φ from it (as in the stretch test).
+  s.material_angle = -db::pull_angle(test.direction);
+  s.areal_density = areal_density;
+  s.gravity = gravity;
+  s.target_edge = target_edge;
+  s.refinements = refinements;
+  return s;
+}
+
+BendingParams initial_bending_guess(const db::Fabric& fabric, const InplaneParams& inplane,
+                                    const BendingFitOptions& options) {
+  return guess_from_data(fabric, inplane, options).params;
+}
+
+BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inplane, const BendingFitOptions& options) {
+  const auto start_time = std::chrono::steady_clock::now();
+  BendingFitResult result;
+  const auto finish = [&]() -> BendingFitResult& {
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+    return result;
+  };
+  if (fabric.bending_tests.empty()) {
+    result.message = "the fabric has no bending test: k_theta not fitted";
+    for (const char* name : k_bending_names) result.not_identified.push_back(std::string(name) + ": no bending test");
+    return finish();
+  }
+  const double rho = areal_density_of(fabric);
+
+  std::vector<PearLoopScene> scenes;
+  std::array<bool, 3> measured{false, false, false};
+  for (const auto& [dir, test] : fabric.bending_tests) {
+    scenes.emplace_back(pear_loop_setup(test, rho, options.target_edge, options.refinements, options.gravity));
+    BendingDirectionFit t = make_bending_targets(test);
+    t.parameter = scenes.back().governing_ktheta();
+    measured[idx(t.parameter)] = true;
+    result.directions.push_back(std::move(t));
+  }
+  for (const auto& d : result.directions) {
+    if (d.clamp_distance.empty()) {
+      result.message = "bending test " + std::string(db::to_string(d.direction)) + " has no points";
+      return finish();
+    }
+  }
+
+  const Guess guess = guess_from_data(fabric, inplane, options);
+  result.start = guess.params;
+  std::vector<int> free, held;
+  for (int j = 0; j < 3; ++j) (measured[idx(j)] ? free : held).push_back(j);
+  for (int j : free) result.identified.push_back(k_bending_names[j]);
+
+  // Bounds per free slot from the tests that measure it.
+  std::vector<double> q, q_lo, q_hi;
+  for (int j : free) {
+    double lo = 0.0, hi = 0.0;
+    for (const auto& [dir, test] : fabric.bending_tests) {
+      const auto [a, b] = length_bounds(test, inplane, rho, options.gravity);
+      const double ka = ktheta_for_bending_length(a, rho, options.gravity);
+      const double kb = ktheta_for_bending_length(b, rho, options.gravity);
+      lo = lo == 0.0 ? ka : std::min(lo, ka);
+      hi = std::max(hi, kb);
+    }
+    q_lo.push_back(std::log(lo));
+    q_hi.push_back(std::log(hi));
+    q.push_back(std::clamp(std::log(result.start.ktheta[idx(j)]), q_lo.back(), q_hi.back()));
+  }
+
+  std::vector<PearLoopWarmStart> warm(scenes.size());
+  auto* cost = new LoopResiduals(scenes, result.directions, warm, free, held, inplane, std::max(1, options.threads),
+                                 result.simulations);
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, q.data());
+  for (int j = 0; j < static_cast<int>(free.size()); ++j) {
+    problem.SetParameterLowerBound(q.data(), j, q_lo[idx(j)]);
+    problem.SetParameterUpperBound(q.data(), j, q_hi[idx(j)]);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = options.max_iterations;
+  // r is read to ~1e-6 (Newton tolerance, parabolic extremes): tighter tolerances only chase
+  // that noise (with 1e-10 a 3-direction fit spent 7 of its 10 iterations there).
+  so.function_tolerance = 1e-7;
+  so.gradient_tolerance = 1e-10;
+  so.parameter_tolerance = 1e-6;
+  so.num_threads = 1;
+  ProgressCallback progress(options.progress);
+  if (options.progress) {
+    so.callbacks.push_back(&progress);
+    so.update_state_every_iteration = true;
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+
+  // Re-evaluate at the solution so the reported curves belong to the final parameters.
+  std::vector<double> res(static_cast<std::size_t>(cost->num_residuals()));
+  const double* blocks[] = {q.data()};
+  const bool final_ok = cost->Evaluate(blocks, res.data(), nullptr);
+  result.params = cost->params_from(q.data());
+  result.iterations = static_cast<int>(summary.iterations.size());
+  result.converged = final_ok && summary.IsSolutionUsable() && summary.termination_type == ceres::CONVERGENCE;
+  result.message = summary.BriefReport();
+  if (!final_ok) {
+    result.message = "final evaluation failed: a pear loop did not reach equilibrium";
+    for (const auto& run : cost->last_runs())
+      if (!run.ok && !run.message.empty()) result.message = "final evaluation failed: " + run.message;
+  }
+  for (int h : held) {
+    result.not_identified.push_back(std::string(k_bending_names[h]) + ": no " +
+                                    std::string(db::to_string(static_cast<db::Direction>(h))) +
+                                    " bending test (held at the geometric mean of the fitted k_theta: " +
+                                    format_number(result.params.ktheta[idx(h)]) + " N*m)");
+  }
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    if (q[j] - q_lo[j] < 1e-3 || q_hi[j] - q[j] < 1e-3) result.at_bounds.push_back(k_bending_names[free[j]]);
+  }
+  if (!result.at_bounds.empty()) {
+    result.message += " (on a search bound: the measured aspect ratios lie outside what the model reaches"
+                      " between a hanging hairpin and a weightless elastica)";
+  }
+  if (final_ok) {
+    for (const auto& d : result.directions) {
+      auto& m = result.max_curvature[d.parameter];
+      m = std::max(m.value_or(0.0), d.max_curvature);
+    }
+  }
+
+  // mean |error| / mean |measured| = Σ |error| / Σ |measured|.
+  double err = 0.0, meas = 0.0;
+  for (const auto& d : result.directions) {
+    for (std::size_t i = 0; i < d.clamp_distance.size() && i < d.simulated_aspect_ratio.size(); ++i) {
+      err += std::abs(d.simulated_aspect_ratio[i] - d.measured_aspect_ratio[i]);
+      meas += std::abs(d.measured_aspect_ratio[i]);
+    }
+  }
+  result.bending_pct = meas > 0.0 ? 100.0 * err / meas : 0.0;
+  return finish();
+}
+
+}  // namespace yarnfit::shell

@@ -1,0 +1,280 @@
+#include "shell_fit/scenes/clamped_stretch.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "shell_fit/energies/membrane_term.hpp"
+#include "shell_fit/mesh/rect_mesh.hpp"
+
+namespace yarnfit::shell {
+
+namespace {
+
+constexpr int k_dim = 2;
+
+using Weights = std::vector<std::pair<int, double>>;
+
+// Vertex weights of a rest material point (barycentric in its triangle).
+Weights point_weights(const ShellMesh& mesh, const Eigen::Vector2d& rest_point) {
+  const MaterialPoint mp = locate(mesh, rest_point);
+  Weights w;
+  for (int k = 0; k < 3; ++k) w.emplace_back(mesh.triangles(mp.triangle, k), mp.weights(k));
+  return w;
+}
+
+Eigen::Vector2d position(const Weights& w, const Eigen::VectorXd& x) {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  for (const auto& [v, a] : w) p += a * x.segment<2>(k_dim * v);
+  return p;
+}
+
+// Distance between two weighted points and its gradient with respect to x.
+double distance(const Weights& a, const Weights& b, const Eigen::VectorXd& x, Eigen::VectorXd* grad) {
+  const Eigen::Vector2d d = position(b, x) - position(a, x);
+  const double len = d.norm();
+  if (grad) {
+    grad->setZero(x.size());
+    const Eigen::Vector2d n = d / len;
+    for (const auto& [v, w] : b) grad->segment<2>(k_dim * v) += w * n;
+    for (const auto& [v, w] : a) grad->segment<2>(k_dim * v) -= w * n;
+  }
+  return len;
+}
+
+int nearest_vertex(const ShellMesh& mesh, const Eigen::Vector2d& p) {
+  int best = 0;
+  double best_d = 1e300;
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    const double d = (mesh.rest.row(v).transpose() - p).norm();
+    if (d < best_d) {
+      best_d = d;
+      best = v;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_setup(setup) {
+  if (!(setup.length > 0.0 && setup.width > 0.0))
+    throw std::invalid_argument("clamped stretch: length and width must be positive");
+  int nx = setup.nx, ny = setup.ny;
+  if (nx == 0 || ny == 0) std::tie(nx, ny) = default_resolution(setup.length, setup.width, setup.target_edge);
+  m_mesh = make_rect_mesh(setup.length, setup.width, nx, ny, setup.material_angle);
+  for (int r = 0; r < setup.refinements; ++r) m_mesh = refine(m_mesh);
+
+  const double tol = 1e-9 * setup.length;
+  m_left = vertices_at_x(m_mesh, 0.0, tol);
+  m_right = vertices_at_x(m_mesh, setup.length, tol);
+  for (int v : m_left) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
+  for (int v : m_right) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
+
+  const double mid = 0.5 * setup.length;
+  if (setup.gauge_length) {
+    if (!(*setup.gauge_length > 0.0 && *setup.gauge_length < setup.length))
+      throw std::invalid_argument("clamped stretch: gauge length must lie between the clamps");
+    m_len_a = point_weights(m_mesh, {mid - 0.5 * *setup.gauge_length, 0.0});
+    m_len_b = point_weights(m_mesh, {mid + 0.5 * *setup.gauge_length, 0.0});
+    m_rest_len = *setup.gauge_length;
+    m_stretch_from_clamps = false;
+  } else {
+    m_rest_len = setup.length;
+  }
+  if (setup.gauge_width) {
+    if (!(*setup.gauge_width > 0.0 && *setup.gauge_width <= setup.width))
+      throw std::invalid_argument("clamped stretch: gauge width must lie on the fabric");
+    m_wid_a = point_weights(m_mesh, {mid, -0.5 * *setup.gauge_width});
+    m_wid_b = point_weights(m_mesh, {mid, 0.5 * *setup.gauge_width});
+    m_rest_wid = *setup.gauge_width;
+  } else {
+    // The free edges at mid-length are mesh vertices (nx and ny are even).
+    m_wid_a = {{nearest_vertex(m_mesh, {mid, -0.5 * setup.width}), 1.0}};
+    m_wid_b = {{nearest_vertex(m_mesh, {mid, 0.5 * setup.width}), 1.0}};
+    m_rest_wid = setup.width;
+  }
+}
+
+ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const std::vector<double>& targets,
+                                           bool with_sensitivities) const {
+  const auto start = std::chrono::steady_clock::now();
+  ClampedStretchRun out;
+  const MembraneTerm membrane(m_mesh, params, k_dim);
+  const std::vector<const EnergyTerm*> terms{&membrane};
+  const int n = k_dim * m_mesh.vertex_count();
+
+  Eigen::VectorXd x(n);
+  for (int v = 0; v < m_mesh.vertex_count(); ++v) x.segment<2>(k_dim * v) = m_mesh.rest.row(v).transpose();
+  const Eigen::VectorXd rest = x;
+  double u_prev = 0.0;
+
+  // Places the right clamp at stretch u, predicting the interior by stretching the last
+  // solution's x-coordinates affinely.
+  auto set_clamp = [&](double u, Eigen::VectorXd& state) {
+    const double scale = (1.0 + u) / (1.0 + u_prev);
+    for (int v = 0; v < m_mesh.vertex_count(); ++v) state[k_dim * v] *= scale;
+    for (int v : m_left) state.segment<2>(k_dim * v) = rest.segment<2>(k_dim * v);
+    for (int v : m_right) {
+      state[k_dim * v] = m_setup.length * (1.0 + u);
+      state[k_dim * v + 1] = rest[k_dim * v + 1];
+    }
+  };
+  // A healthy load step converges in a handful of iterations from the affine prediction; one
+  // that needs dozens is in trouble (a fit's trial point near inversion) and should fail fast
+  // so the optimiser can step back, instead of grinding.
+  NewtonOptions options;
+  options.max_iterations = 40;
+  // Residual forces below 1e-9 of the force a unit strain would need are numerical noise.
+  const double force_scale = std::max({params.kxx, params.kyy, params.kxy, params.kss, 1e-12}) * m_setup.width;
+  options.gradient_tolerance = 1e-9 * force_scale;
+
+  auto solve_at = [&](double u) -> bool {
+    Eigen::VectorXd trial = x;
+    set_clamp(u, trial);
+    NewtonSummary s;
+    if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, m_fixed_dofs, options);
+    if (!s.converged()) {
+      // Walk there from the last good state in load steps.
+      trial = x;
+      const double u0 = u_prev;
+      ContinuationOptions copt;
+      copt.newton = options;
+      copt.newton.max_iterations = 25;
+      copt.min_step = 1.0 / 64.0;
+      s = solve_continuation(terms, trial, m_fixed_dofs,
+                             [&](double lambda, Eigen::VectorXd& state) {
+                               const double target = u0 + lambda * (u - u0);
+                               for (int v : m_right) state[k_dim * v] = m_setup.length * (1.0 + target);
+                             },
+                             copt);
+    }
+    ++out.newton_solves;
+    out.newton_iterations += s.iterations;
+    if (!s.converged()) {
+      out.message = "equilibrium at clamp stretch " + std::to_string(u) + " failed: " + s.brief();
+      return false;
+    }
+    x = trial;
+    u_prev = u;
+    return true;
+  };
+  auto measured = [&](const Eigen::VectorXd& state, Eigen::VectorXd* grad) {
+    if (m_stretch_from_clamps) {
+      if (grad) grad->setZero(n);
+      return state[k_dim * m_right[0]] / m_setup.length - 1.0;
+    }
+    return distance(m_len_a, m_len_b, state, grad) / m_rest_len - 1.0;
+  };
+
+  for (const double target : targets) {
+    if (!(target > -1.0)) {
+      out.message = "stretch target " + std::to_string(target) + " is not > -1";
+      return out;
+    }
+    // Clamp stretch u with measured(u) = target: exact without gauge marks, else secant.
+    double u = m_stretch_from_clamps ? target : u_prev + (target - measured(x, nullptr));
+    if (!solve_at(u)) return out;
+    if (!m_stretch_from_clamps) {
+      double u_a = u, m_a = measured(x, nullptr);
+      double u_b = u_a + 1e-3 * (1.0 + std::abs(u_a)), m_b = 0.0;
+      for (int it = 0; it < 30 && std::abs(m_a - target) > 1e-10 * (1.0 + std::abs(target)); ++it) {
+        if (!solve_at(u_b)) return out;
+        m_b = measured(x, nullptr);
+        if (std::abs(m_b - target) <= 1e-10 * (1.0 + std::abs(target))) break;
+        const double slope = (m_b - m_a) / (u_b - u_a);
+        if (!(std::abs(slope) > 1e-12)) {
+          out.message = "gauge stretch does not respond to the clamp stretch";
+          return out;
+        }
+        const double u_next = u_b + (target - m_b) / slope;
+        u_a = u_b;
+        m_a = m_b;
+        u_b = u_next;
+      }
+      u = u_prev;
+    }
+
+    ClampedStretchSample sample;
+    sample.clamp_stretch = u;
+    sample.measured_stretch = measured(x, nullptr);
+    const Eigen::VectorXd g = total_gradient(terms, x);
+    for (int v : m_right) sample.force += g[k_dim * v];
+    Eigen::VectorXd dwidth(n);
+    const double w = distance(m_wid_a, m_wid_b, x, &dwidth);
+    sample.compression = 1.0 - w / m_rest_wid;
+
+    if (with_sensitivities) {
+      // Free / fixed split of the true (unprojected) Hessian at equilibrium.
+      std::vector<int> is_fixed(static_cast<std::size_t>(n), 0);
+      for (int d : m_fixed_dofs) is_fixed[static_cast<std::size_t>(d)] = 1;
+      std::vector<int> free_index(static_cast<std::size_t>(n), -1);
+      int nf = 0;
+      for (int d = 0; d < n; ++d)
+        if (!is_fixed[static_cast<std::size_t>(d)]) free_index[static_cast<std::size_t>(d)] = nf++;
+      const Eigen::SparseMatrix<double> H = total_hessian(terms, x, false);
+      std::vector<Eigen::Triplet<double>> ff;
+      Eigen::VectorXd hfc_du = Eigen::VectorXd::Zero(nf);  // H_fc · ∂x_c/∂u
+      Eigen::VectorXd dxc_du = Eigen::VectorXd::Zero(n);
+      for (int v : m_right) dxc_du[k_dim * v] = m_setup.length;
+      Eigen::VectorXd hxc_du = H * dxc_du;  // full-length product, rows split below
+      for (int k = 0; k < H.outerSize(); ++k) {
+        for (Eigen::SparseMatrix<double>::InnerIterator it(H, k); it; ++it) {
+          const int fr = free_index[static_cast<std::size_t>(it.row())];
+          const int fc = free_index[static_cast<std::size_t>(it.col())];
+          if (fr >= 0 && fc >= 0) ff.emplace_back(fr, fc, it.value());
+        }
+      }
+      for (int d = 0; d < n; ++d)
+        if (free_index[static_cast<std::size_t>(d)] >= 0) hfc_du[free_index[static_cast<std::size_t>(d)]] = hxc_du[d];
+      Eigen::SparseMatrix<double> Hff(nf, nf);
+      Hff.setFromTriplets(ff.begin(), ff.end());
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Hff);
+      if (ldlt.info() != Eigen::Success) {
+        out.message = "sensitivities: the equilibrium Hessian could not be factorised";
+        return out;
+      }
+      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 6);
+      membrane.add_gradient_per_parameter(x, G);
+      Eigen::MatrixXd rhs(nf, 7);
+      for (int d = 0; d < n; ++d) {
+        const int f = free_index[static_cast<std::size_t>(d)];
+        if (f < 0) continue;
+        rhs.block<1, 6>(f, 0) = -G.row(d);
+      }
+      rhs.col(6) = -hfc_du;
+      const Eigen::MatrixXd sol = ldlt.solve(rhs);  // columns: dx_f/dp_k (k < 6), dx_f/du
+      // Full-length dx/dp and dx/du (fixed DOFs: 0 for p, ∂x_c/∂u for u).
+      Eigen::MatrixXd dx(n, 7);
+      dx.setZero();
+      for (int d = 0; d < n; ++d) {
+        const int f = free_index[static_cast<std::size_t>(d)];
+        if (f >= 0) dx.row(d) = sol.row(f);
+      }
+      dx.col(6) += dxc_du;
+      // Force = Σ_right g_x: dF = ∂g/∂p + H dx (rows of the right clamp's x DOFs).
+      const Eigen::MatrixXd Hdx = H * dx;
+      Eigen::Matrix<double, 7, 1> dF = Eigen::Matrix<double, 7, 1>::Zero();
+      for (int v : m_right) {
+        dF += Hdx.row(k_dim * v).transpose();
+        dF.head<6>() += G.row(k_dim * v).transpose();
+      }
+      Eigen::VectorXd dmeasured(n);
+      measured(x, &dmeasured);
+      const Eigen::Matrix<double, 7, 1> dm = dx.transpose() * dmeasured;
+      const Eigen::Matrix<double, 7, 1> dc = -(dx.transpose() * dwidth) / m_rest_wid;
+      // Hold the measured stretch: u moves with p unless the stretch is read at the clamps.
+      Eigen::Matrix<double, 6, 1> du_dp = Eigen::Matrix<double, 6, 1>::Zero();
+      if (!m_stretch_from_clamps) du_dp = -dm.head<6>() / dm[6];
+      sample.dforce_dp = dF.head<6>() + dF[6] * du_dp;
+      sample.dcompression_dp = dc.head<6>() + dc[6] * du_dp;
+    }
+    out.samples.push_back(sample);
+  }
+  out.ok = true;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace yarnfit::shell
