@@ -6,10 +6,12 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "shell_fit/fit/bending_fit.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
 #include "shell_fit/fit/shell_fit_report.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
@@ -56,15 +58,45 @@ int run_shell_fit(const ShellArgs& a) {
   nlohmann::json report = shell::inplane_fit_json(fit);
   report["fabric"] = fabric.id;
   report["effects"] = {{"stretch", {"membrane"}}};
-  report["params"]["ktheta_weft"] = nullptr;
-  report["params"]["ktheta_bias"] = nullptr;
-  report["params"]["ktheta_warp"] = nullptr;
+  for (const char* k : {"ktheta_weft", "ktheta_bias", "ktheta_warp"}) report["params"][k] = nullptr;
   report["errors"]["bending_pct"] = nullptr;
 
   shell::ShellParams params;
   params.inplane = fit.params;
   shell::TargetRanges ranges;
-  for (const auto& [dir, t] : fabric.stretch_tests) ranges.max_stretch[static_cast<std::size_t>(dir)] = t.curve.stretch.back();
+  for (const auto& d : fit.directions) ranges.max_stretch[static_cast<std::size_t>(d.direction)] = d.max_stretch;
+
+  // Bending (6.3.2), fitted separately with the in-plane model held, as in the thesis.
+  std::optional<shell::BendingFitResult> bend;
+  if (fabric.bending_tests.empty()) {
+    report["not_identified"].push_back("ktheta_weft, ktheta_bias, ktheta_warp: no bending test (not fitted)");
+  } else if (fit.converged) {
+    shell::BendingFitOptions bopt;
+    bopt.threads = a.threads;
+    if (show_progress) {
+      bopt.progress = [](int iteration, double cost, double seconds) {
+        std::fprintf(stderr, "\rshell fit: bending, iteration %3d, cost %.4g, %.1f s   ", iteration, cost, seconds);
+        std::fflush(stderr);
+      };
+    }
+    bend = shell::fit_bending(fabric, fit.params, bopt);
+    if (show_progress) std::fprintf(stderr, "\n");
+    params.bending = bend->params;
+    const char* names[3] = {"ktheta_weft", "ktheta_bias", "ktheta_warp"};
+    for (std::size_t k = 0; k < 3; ++k) {
+      report["params"][names[k]] = bend->params.ktheta[k];
+      ranges.max_curvature[k] = bend->max_curvature[k];
+    }
+    report["errors"]["bending_pct"] = bend->bending_pct;
+    for (const auto& s : bend->identified) report["identified"].push_back(s);
+    for (const auto& s : bend->not_identified) report["not_identified"].push_back(s);
+    for (const auto& s : bend->at_bounds) report["at_bounds"].push_back(s);
+    report["effects"]["pear_loop"] = bend->effects;
+    report["bending"] = {{"converged", bend->converged}, {"message", bend->message},
+                         {"iterations", bend->iterations}, {"simulations", bend->simulations},
+                         {"timing_s", bend->seconds}};
+    report["timing_s"] = fit.seconds + bend->seconds;
+  }
   try {
     fs::create_directories(a.out);
     db::write_text_file_atomically(fs::path(a.out) / "shell_fit.json", report.dump(2) + "\n");
@@ -85,10 +117,19 @@ int run_shell_fit(const ShellArgs& a) {
     for (const auto& n : fit.not_identified) std::cout << "  not identified: " << n << "\n";
     for (const auto& n : fit.weakly_identified) std::cout << "  weakly identified: " << n << "\n";
     for (const auto& b : fit.at_bounds) std::cout << "  WARNING: " << b << " ended on a search bound\n";
+    if (bend) {
+      std::cout << "  bending: " << (bend->converged ? "converged" : "NOT converged") << ", aspect-ratio error "
+                << db::format_g(bend->bending_pct, 3) << " %, " << db::format_g(bend->seconds, 3) << " s\n";
+      for (const auto& b : bend->at_bounds) std::cout << "  WARNING: " << b << " ended on a search bound\n";
+    }
     std::cout << "  wrote " << (fs::path(a.out) / "shell_fit.json").string() << " and uniform_targets.csv\n";
   }
   if (!fit.converged) {
     std::cerr << "shell fit did not converge: " << fit.message << "\n";
+    return k_exit_internal;
+  }
+  if (bend && !bend->converged) {
+    std::cerr << "bending fit did not converge: " << bend->message << "\n";
     return k_exit_internal;
   }
   return k_exit_ok;

@@ -1,4 +1,5 @@
 // yarnfit: calibrates cloth simulation models against physical tests of knitted fabrics.
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 
@@ -10,6 +11,9 @@
 
 int main(int argc, char** argv) {
   using namespace yarnfit::cli;
+  // Before OpenMP starts its threads: spinning waits steal the core from the other work on a
+  // busy 2-core machine and slow the parallel loops several times over. A user's setting wins.
+  ::setenv("OMP_WAIT_POLICY", "passive", 0);
   CLI::App app{
       "yarnfit — fits thin-shell and yarn-level cloth models to stretch and bending tests of "
       "knitted fabrics.\nExit codes: 0 success, 2 invalid input, 1 internal failure."};

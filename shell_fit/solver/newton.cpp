@@ -409,6 +409,9 @@ NewtonSummary solve_static(const std::vector<const EnergyTerm*>& terms, Eigen::V
     // The exact Hessian first (cheap, and the true Newton step) unless it failed last time;
     // the per-element projection when the exact one is indefinite.
     bool exact = !options.project_psd || (options.exact_hessian_first && !exact_failed_last);
+    // Projection chosen up front because the exact Hessian failed last iteration: that lasts
+    // one iteration, after which the exact Hessian is tried again.
+    const bool skipped_exact = options.project_psd && options.exact_hessian_first && exact_failed_last;
     const auto assemble = [&]() {
       if (!hessian.assemble(terms, x, !exact, &why)) return false;
       // A non-positive diagonal entry rules out positive definiteness: start the shift past it.
@@ -505,7 +508,7 @@ NewtonSummary solve_static(const std::vector<const EnergyTerm*>& terms, Eigen::V
                       message);
       }
     }
-    if (exact) exact_failed_last = false;
+    if (exact || skipped_exact) exact_failed_last = false;
 
     x.swap(trial);  // the accepted trial point
     ++summary.iterations;
