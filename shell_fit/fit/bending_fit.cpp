@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include "shell_fit/fit/ceres_support.hpp"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -236,17 +238,6 @@ class LoopResiduals : public ceres::CostFunction {
   mutable std::vector<PearLoopRun> m_runs;
 };
 
-class ProgressCallback : public ceres::IterationCallback {
- public:
-  explicit ProgressCallback(std::function<void(int, double, double)> fn) : m_fn(std::move(fn)) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (m_fn) m_fn(s.iteration, s.cost, s.cumulative_time_in_seconds);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  std::function<void(int, double, double)> m_fn;
-};
 
 }  // namespace
 
@@ -351,20 +342,11 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     problem.SetParameterLowerBound(q.data(), j, q_lo[idx(j)]);
     problem.SetParameterUpperBound(q.data(), j, q_hi[idx(j)]);
   }
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
   // r is read to ~1e-6 (Newton tolerance, parabolic extremes): tighter tolerances only chase
   // that noise (with 1e-10 a 3-direction fit spent 7 of its 10 iterations there).
-  so.function_tolerance = 1e-7;
-  so.gradient_tolerance = 1e-10;
-  so.parameter_tolerance = 1e-6;
-  so.num_threads = 1;
   ProgressCallback progress(options.progress);
-  if (options.progress) {
-    so.callbacks.push_back(&progress);
-    so.update_state_every_iteration = true;
-  }
+  const ceres::Solver::Options so =
+      least_squares_options(options.max_iterations, 1e-7, 1e-6, &progress, static_cast<bool>(options.progress));
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
 

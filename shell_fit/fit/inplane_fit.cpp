@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include "shell_fit/fit/ceres_support.hpp"
+
 #include <Eigen/QR>
 
 #include <algorithm>
@@ -197,17 +199,6 @@ class StretchResiduals : public ceres::CostFunction {
   std::vector<double> m_force_weight, m_comp_weight;
 };
 
-class ProgressCallback : public ceres::IterationCallback {
- public:
-  explicit ProgressCallback(std::function<void(int, double, double)> fn) : m_fn(std::move(fn)) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (m_fn) m_fn(s.iteration, s.cost, s.cumulative_time_in_seconds);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  std::function<void(int, double, double)> m_fn;
-};
 
 }  // namespace
 
@@ -267,22 +258,12 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     problem.SetParameterLowerBound(q.data(), j, std::log(1e-4 * scale));
     problem.SetParameterUpperBound(q.data(), j, std::log(1e4 * scale));
   }
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
   // The residuals carry the inner solves' noise (Newton 1e-9 of the force scale, secant 1e-10 in
-  // stretch); asking Ceres for less change than that only burns iterations. 1e-7 in the
-  // log-parameters is far below what any measurement can resolve; 1e-9 keeps noise-free
-  // synthetic data recoverable to 1e-4.
-  so.function_tolerance = 1e-9;
-  so.gradient_tolerance = 1e-10;
-  so.parameter_tolerance = 1e-9;
-  so.num_threads = 1;
+  // stretch); asking for less change than 1e-9 only burns iterations, and 1e-9 keeps
+  // noise-free synthetic data recoverable to 1e-4.
   ProgressCallback progress(options.progress);
-  if (options.progress) {
-    so.callbacks.push_back(&progress);
-    so.update_state_every_iteration = true;
-  }
+  const ceres::Solver::Options so =
+      least_squares_options(options.max_iterations, 1e-9, 1e-9, &progress, static_cast<bool>(options.progress));
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
 
