@@ -12,5 +12,6 @@ inline constexpr int k_exit_invalid_input = 2;
 
 void add_db_commands(CLI::App& app, int& exit_code);
 void add_shell_commands(CLI::App& app, int& exit_code);
+void add_synth_commands(CLI::App& app, int& exit_code);
 
 }  // namespace yarnfit::cli

@@ -14,6 +14,7 @@
 #include "shell_fit/fit/bending_fit.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
 #include "shell_fit/fit/shell_fit_report.hpp"
+#include "shell_fit/fit/synthetic_fabric.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 
 namespace yarnfit::cli {
@@ -135,7 +136,82 @@ int run_shell_fit(const ShellArgs& a) {
   return k_exit_ok;
 }
 
+struct SynthArgs {
+  std::string out, id = "synthetic_shell", family = "synthetic";
+  double kxx = 120, kxy = 35, kyy = 400, kss = 30, kn1 = 5, kn2 = 8;  // N/m
+  double weft = 0.8, bias = 0.6, warp = 0.4;                          // largest stretch; ≤ 0 omits
+  double length_mm = 100, width_mm = 60, gauge_length_mm = 0, gauge_width_mm = 0;
+  double noise = 0.0, mesh_mm = 5.0;
+  int refine = 1, points = 13;
+  unsigned seed = 1;
+  bool force = false;
+};
+
+int run_synth_shell(const SynthArgs& a) {
+  shell::SyntheticShellOptions o;
+  o.id = a.id;
+  o.family = a.family;
+  o.params.inplane = {a.kxx, a.kxy, a.kyy, a.kss, a.kn1, a.kn2};
+  o.max_stretch.clear();
+  if (a.weft > 0) o.max_stretch[db::Direction::weft] = a.weft;
+  if (a.bias > 0) o.max_stretch[db::Direction::bias] = a.bias;
+  if (a.warp > 0) o.max_stretch[db::Direction::warp] = a.warp;
+  if (o.max_stretch.empty()) {
+    std::cerr << "--weft/--bias/--warp: at least one direction needs a positive stretch\n";
+    return k_exit_invalid_input;
+  }
+  o.length = a.length_mm * 1e-3;
+  o.width = a.width_mm * 1e-3;
+  if (a.gauge_length_mm > 0) o.gauge_length = a.gauge_length_mm * 1e-3;
+  if (a.gauge_width_mm > 0) o.gauge_width = a.gauge_width_mm * 1e-3;
+  o.noise = a.noise;
+  o.seed = a.seed;
+  o.target_edge = a.mesh_mm * 1e-3;
+  o.refinements = a.refine;
+  o.points = a.points;
+  try {
+    shell::write_synthetic_shell_fabric(o, a.out, a.force);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << a.out << ": " << e.what() << "\n";
+    return k_exit_invalid_input;
+  } catch (const std::exception& e) {
+    std::cerr << a.out << ": " << e.what() << "\n";
+    return std::string(e.what()).find("exists") != std::string::npos ? k_exit_invalid_input : k_exit_internal;
+  }
+  std::cout << "wrote synthetic fabric " << a.id << " to " << a.out << "\n";
+  return k_exit_ok;
+}
+
 }  // namespace
+
+void add_synth_commands(CLI::App& app, int& exit_code) {
+  auto* synth = app.add_subcommand("synth", "Synthetic fabric records simulated from known parameters");
+  synth->require_subcommand(1);
+  auto args = std::make_shared<SynthArgs>();
+  auto* sh = synth->add_subcommand(
+      "shell", "Simulate clamped stretch tests from shell parameters (N/m) and write a fabric record "
+               "with them under ground_truth");
+  sh->add_option("-o,--out", args->out, "Fabric folder to write")->required();
+  sh->add_option("--id", args->id, "Fabric id")->capture_default_str();
+  sh->add_option("--family", args->family, "Fabric family")->capture_default_str();
+  for (auto [name, ptr] : {std::pair{"--kxx", &args->kxx}, {"--kxy", &args->kxy}, {"--kyy", &args->kyy},
+                           {"--kss", &args->kss}, {"--kn1", &args->kn1}, {"--kn2", &args->kn2}})
+    sh->add_option(name, *ptr, "Shell parameter [N/m]")->capture_default_str();
+  sh->add_option("--weft", args->weft, "Largest weft stretch (<= 0 omits the test)")->capture_default_str();
+  sh->add_option("--bias", args->bias, "Largest bias stretch (<= 0 omits the test)")->capture_default_str();
+  sh->add_option("--warp", args->warp, "Largest warp stretch (<= 0 omits the test)")->capture_default_str();
+  sh->add_option("--length-mm", args->length_mm, "Free length")->check(CLI::PositiveNumber)->capture_default_str();
+  sh->add_option("--width-mm", args->width_mm, "Width")->check(CLI::PositiveNumber)->capture_default_str();
+  sh->add_option("--gauge-length-mm", args->gauge_length_mm, "Gauge mark spacing along the pull (0: clamps)");
+  sh->add_option("--gauge-width-mm", args->gauge_width_mm, "Gauge mark spacing across (0: free edges)");
+  sh->add_option("--noise", args->noise, "Relative Gaussian noise on force and compression")->check(CLI::Range(0.0, 0.5));
+  sh->add_option("--seed", args->seed, "Noise seed")->capture_default_str();
+  sh->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->check(CLI::PositiveNumber)->capture_default_str();
+  sh->add_option("--refine", args->refine, "Midpoint subdivisions (a mesh unlike the fit's)")->check(CLI::Range(0, 3))->capture_default_str();
+  sh->add_option("--points", args->points, "Points per curve")->check(CLI::Range(3, 1000))->capture_default_str();
+  sh->add_flag("--force", args->force, "Replace an existing record in the folder");
+  sh->callback([args, &exit_code] { exit_code = run_synth_shell(*args); });
+}
 
 void add_shell_commands(CLI::App& app, int& exit_code) {
   auto* shell = app.add_subcommand("shell", "Thin-shell model: fit to a fabric's tests, simulate scenes");

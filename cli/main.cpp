@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   int exit_code = k_exit_ok;
   add_db_commands(app, exit_code);
   add_shell_commands(app, exit_code);
+  add_synth_commands(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
