@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include "shell_fit/fit/ceres_support.hpp"
+#include "shell_fit/fit/curve_interpolation.hpp"
 
 #include <algorithm>
 #include <array>
@@ -25,16 +26,6 @@ std::string format_number(double v) {
   return out.str();
 }
 
-double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
-  if (x <= xs.front()) return ys.front();
-  for (std::size_t i = 1; i < xs.size(); ++i) {
-    if (x <= xs[i]) {
-      const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-      return ys[i - 1] + t * (ys[i] - ys[i - 1]);
-    }
-  }
-  return ys.back();
-}
 
 // Search range of the bending length relative to the free length: from a strip that hangs
 // as a hairpin (ℓ = L/100) to one that gravity hardly bends (ℓ = 10 L).
@@ -256,7 +247,7 @@ BendingDirectionFit make_bending_targets(const db::BendingTest& test) {
   for (int i = 0; i < n; ++i) {
     const double d = n == 1 ? lo : lo + (hi - lo) * i / (n - 1);
     t.clamp_distance.push_back(d);
-    t.measured_aspect_ratio.push_back(interpolate(c.clamp_distance, c.aspect_ratio, d));
+    t.measured_aspect_ratio.push_back(interpolate_linear(c.clamp_distance, c.aspect_ratio, d));
   }
   return t;
 }

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include "shell_fit/fit/ceres_support.hpp"
+#include "shell_fit/fit/curve_interpolation.hpp"
 
 #include <Eigen/QR>
 
@@ -22,16 +23,6 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 Vec6 to_vec(const InplaneParams& p) { return (Vec6() << p.kxx, p.kxy, p.kyy, p.kss, p.kn1, p.kn2).finished(); }
 InplaneParams from_vec(const Vec6& v) { return {v[0], v[1], v[2], v[3], v[4], v[5]}; }
 
-double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
-  if (x <= xs.front()) return ys.front();
-  for (std::size_t i = 1; i < xs.size(); ++i) {
-    if (x <= xs[i]) {
-      const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-      return ys[i - 1] + t * (ys[i] - ys[i - 1]);
-    }
-  }
-  return ys.back();
-}
 
 // Least-squares slope through the origin over the first third of the range: the small-strain
 // modulus of a curve that stiffens, without being thrown by the toe's noise.
@@ -80,8 +71,8 @@ DirectionFit make_direction_targets(const db::StretchTest& test, double max_line
   for (int i = 1; i <= k_stretch_targets_per_direction; ++i) {
     const double s = s_max * i / k_stretch_targets_per_direction;
     d.stretch.push_back(s);
-    d.measured_force.push_back(interpolate(c.stretch, c.force, s));
-    if (c.has_compression()) d.measured_compression.push_back(interpolate(c.stretch, c.compression, s));
+    d.measured_force.push_back(interpolate_linear(c.stretch, c.force, s));
+    if (c.has_compression()) d.measured_compression.push_back(interpolate_linear(c.stretch, c.compression, s));
   }
   return d;
 }
