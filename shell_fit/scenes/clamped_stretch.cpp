@@ -71,6 +71,11 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
   m_right = vertices_at_x(m_mesh, setup.length, tol);
   for (int v : m_left) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
   for (int v : m_right) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
+  // The free/clamped split depends only on the mesh; the sensitivities reuse it at every target.
+  m_free_index.assign(static_cast<std::size_t>(k_dim * m_mesh.vertex_count()), 0);
+  for (int d : m_fixed_dofs) m_free_index[static_cast<std::size_t>(d)] = -1;
+  for (int& f : m_free_index)
+    if (f == 0) f = m_free_count++;
 
   const double mid = 0.5 * setup.length;
   if (setup.gauge_length) {
@@ -207,12 +212,8 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
 
     if (with_sensitivities) {
       // Free / fixed split of the true (unprojected) Hessian at equilibrium.
-      std::vector<int> is_fixed(static_cast<std::size_t>(n), 0);
-      for (int d : m_fixed_dofs) is_fixed[static_cast<std::size_t>(d)] = 1;
-      std::vector<int> free_index(static_cast<std::size_t>(n), -1);
-      int nf = 0;
-      for (int d = 0; d < n; ++d)
-        if (!is_fixed[static_cast<std::size_t>(d)]) free_index[static_cast<std::size_t>(d)] = nf++;
+      const std::vector<int>& free_index = m_free_index;
+      const int nf = m_free_count;
       const Eigen::SparseMatrix<double> H = total_hessian(terms, x, false);
       std::vector<Eigen::Triplet<double>> ff;
       Eigen::VectorXd hfc_du = Eigen::VectorXd::Zero(nf);  // H_fc · ∂x_c/∂u

@@ -78,6 +78,8 @@ class ClampedStretchScene {
   ShellMesh m_mesh;
   std::vector<int> m_left, m_right;  // clamped vertices
   std::vector<int> m_fixed_dofs;
+  std::vector<int> m_free_index;  // per DOF: its index among the free DOFs, −1 when clamped
+  int m_free_count = 0;
   // Linear read-outs: measured length l = |Σ a_i x_i − Σ b_i x_i| etc. as weighted vertices.
   std::vector<std::pair<int, double>> m_len_a, m_len_b, m_wid_a, m_wid_b;
   double m_rest_len = 0.0, m_rest_wid = 0.0;

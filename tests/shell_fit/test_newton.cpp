@@ -588,15 +588,12 @@ StretchResult stretch_membrane(const ShellMesh& mesh, const InplaneParams& param
   return r;
 }
 
+// Near-isotropic knit membrane for the swatch tests [N/m]: kxx kxy kyy kss kn1 kn2.
+const InplaneParams k_swatch_membrane{100.0, 30.0, 100.0, 35.0, 0.0, 10.0};
+
 TEST(Continuation, MembraneSwatchStretchedByHalfConverges) {
   const double length = 0.1, width = 0.06;
-  InplaneParams params;
-  params.kxx = 100.0;
-  params.kyy = 100.0;
-  params.kxy = 30.0;
-  params.kss = 35.0;
-  params.kn1 = 0.0;
-  params.kn2 = 10.0;
+  const InplaneParams params = k_swatch_membrane;
   const ShellMesh mesh = make_rect_mesh(length, width, 20, 12, 0.0);
   ContinuationOptions options;
   // Forces are ~N over ~20 clamped nodes; 1e-9 N per node is far below any measurement.
@@ -642,12 +639,7 @@ TEST(Continuation, MembraneOnATwiceRefinedMeshConverges) {
   // 80×48 cells (7,938 DOFs): the mesh-convergence check's size. The clamp force changes
   // little with refinement (only the clamp corners are singular).
   const double length = 0.1, width = 0.06;
-  InplaneParams params;
-  params.kxx = 100.0;
-  params.kyy = 100.0;
-  params.kxy = 30.0;
-  params.kss = 35.0;
-  params.kn2 = 10.0;
+  const InplaneParams params = k_swatch_membrane;
   ContinuationOptions options;
   options.newton.gradient_tolerance = 1e-9;
   const ShellMesh coarse = make_rect_mesh(length, width, 20, 12, std::numbers::pi / 4);
