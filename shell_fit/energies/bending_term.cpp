@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "shell_fit/energies/psd_projection.hpp"
+#include "numerics/psd_projection.hpp"
 
 namespace yarnfit::shell {
 
@@ -264,7 +264,7 @@ void BendingTerm::add_hessian(const Eigen::VectorXd& x, Triplets& h, bool projec
     if (dihedral_derivatives(gather(e, x), theta, grad, &hess)) {
       const double c = 2.0 * e.ktheta * edge_weight(e);
       local = c * (grad * grad.transpose() + theta * hess);
-      if (project_psd) yarnfit::shell::project_psd<12>(local);
+      if (project_psd) numerics::project_psd<12>(local);
     }
     std::size_t out = start + static_cast<std::size_t>(k) * block;
     for (int i = 0; i < 12; ++i) {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "shell_fit/energies/psd_projection.hpp"
+#include "numerics/psd_projection.hpp"
 
 namespace yarnfit::shell {
 
@@ -170,7 +170,7 @@ void append_hessian(const std::vector<MembraneTerm::Element>& elements, const In
   for (int t = 0; t < count; ++t) {
     const auto& e = elements[static_cast<std::size_t>(t)];
     typename K::MatrixL block = K::hessian(m, e, x);
-    if (project) project_psd<n>(block);
+    if (project) numerics::project_psd<n>(block);
     std::size_t out = start + static_cast<std::size_t>(t) * static_cast<std::size_t>(n * n);
     for (int i = 0; i < 3; ++i) {
       for (int k = 0; k < Dim; ++k) {

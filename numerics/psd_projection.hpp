@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
-namespace yarnfit::shell {
+namespace yarnfit::numerics {
 
 template <int N>
 void project_psd(Eigen::Matrix<double, N, N>& h) {
@@ -27,4 +27,4 @@ void project_psd(Eigen::Matrix<double, N, N>& h) {
   h = eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-}  // namespace yarnfit::shell
+}  // namespace yarnfit::numerics
