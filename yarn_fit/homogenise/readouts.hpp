@@ -1,0 +1,72 @@
+#pragma once
+// Homogenised read-outs of the periodic yarn simulation (thesis 6.5.1, 3.23):
+//  * energy density Ψ = E / Ā (6.8) at equilibrium;
+//  * stretch stress σ_s = dΨ/ds, analytic from the equilibrium state (6.10 / 3.23): at
+//    equilibrium the fluctuation's own derivative drops out, so σ_s = ∂Ψ/∂s at fixed g;
+//  * bending stress by central differences of the equilibrated Ψ in κ (as in the thesis);
+//  * the zero-orthogonal-stress compression c*(s) = argmin_c Ψ(s, c), found either by a
+//    bracketed root find on ∂Ψ/∂c = 0 (default, each evaluation warm-started) or by COBYLA
+//    on Ψ(c) (NLopt, as in the thesis); both are exposed so they can be compared.
+//
+// Every read-out carries the equilibrium summaries it relied on; a failed solve makes the
+// read-out fail with that status instead of returning a number.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "yarn_fit/periodic/yarn_system.hpp"
+#include "yarn_fit/solver/equilibrium.hpp"
+
+namespace yarnfit::yarn {
+
+struct Sample {
+  CoarseDeformation chi;
+  bool ok = false;                   // every solve behind the numbers converged
+  double energy_density = 0.0;       // Ψ [J/m²]
+  double stress_s = 0.0;             // σ_s = dΨ/ds [N/m]
+  double stress_c = 0.0;             // ∂Ψ/∂c [N/m] (0 at the zero-orthogonal-stress c)
+  Eigen::Matrix2d coarse_stress = Eigen::Matrix2d::Zero();  // P (κ = 0) [N/m]
+  int newton_iterations = 0;         // summed over all solves of the sample
+  int solves = 0;
+  double seconds = 0.0;
+  EquilibriumResult last_solve;
+  std::vector<std::string> effects;
+  std::string message;               // why ok is false
+};
+
+// Equilibrium at χ, warm-started from `g` (updated in place), then the read-outs.
+Sample simulate_sample(YarnSystem& system, const CoarseDeformation& chi, Eigen::VectorXd& g,
+                       const EquilibriumOptions& options = {});
+
+enum class CompressionMethod { root_find, cobyla };
+
+struct CompressionOptions {
+  CompressionMethod method = CompressionMethod::root_find;
+  double lower = -0.3;      // search interval for c
+  double upper = 0.9;
+  double tolerance = 1e-5;  // on c
+  int max_evaluations = 60;
+  double initial_guess = 0.0;
+};
+
+// c*(s) with Ψ minimal over c at chi's stretch, direction and curvature (chi.compression is
+// ignored; the search starts at compression.initial_guess). The sample returned is the
+// equilibrium at c*, with its solve count and summed Newton iterations. `g` carries the warm
+// start in and the solution out.
+Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::VectorXd& g,
+                              const CompressionOptions& compression = {},
+                              const EquilibriumOptions& options = {});
+
+// dΨ/dκ by central differences of equilibrated Ψ with step h [1/m] (0: 1e-3 / yarn radius).
+struct BendingSample {
+  Sample centre;
+  double stress_kappa = 0.0;  // [N] (J/m² per 1/m)
+  bool ok = false;
+  std::string message;
+};
+BendingSample simulate_bending(YarnSystem& system, const CoarseDeformation& chi,
+                               Eigen::VectorXd& g, double step = 0.0,
+                               const EquilibriumOptions& options = {});
+
+}  // namespace yarnfit::yarn

@@ -1,0 +1,43 @@
+#pragma once
+// Rest-shape heuristic (thesis 6.5.2): alternate equilibrium solves at χ = 0 with resets of
+// the rest lengths and rest curvatures to the current configuration, so that the tile's rest
+// state is stable (small coarse stress) while the yarns stay close to the input geometry.
+// Rest lengths stay within ±max_length_change of the input; early rounds run only a few
+// Newton iterations (contact forces right after a reset are strong and local), later rounds
+// run to convergence. The final state is a converged equilibrium with the new rest shape.
+
+#include <Eigen/Core>
+
+#include "yarn_fit/periodic/yarn_system.hpp"
+#include "yarn_fit/solver/equilibrium.hpp"
+
+namespace yarnfit::yarn {
+
+struct RestShapeOptions {
+  int rounds = 12;
+  int early_rounds = 6;          // rounds with only `early_iterations` Newton iterations
+  int early_iterations = 4;
+  double max_length_change = 0.2;  // |L̄ / L̄_input − 1| ≤ this
+  EquilibriumOptions solve;
+};
+
+struct RestShapeResult {
+  bool converged = false;             // the last (full) solve converged
+  int rounds = 0;
+  int newton_iterations = 0;
+  Eigen::Matrix2d rest_stress = Eigen::Matrix2d::Zero();  // coarse stress P at χ = 0 [N/m]
+  double max_length_change = 0.0;     // max |L̄ / L̄_input − 1| after the heuristic
+  int clamped_edges = 0;              // edges whose rest length sits on the ±bound
+  double seconds = 0.0;
+  EquilibriumResult last_solve;
+};
+
+// Edits the system's rest lengths and curvatures; `g` is the relaxed state at χ = 0 on return.
+RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g,
+                                 const RestShapeOptions& options = {});
+
+// Resets rest lengths (clamped to the bound) and rest curvatures to the configuration `g` at
+// the system's current deformation. Returns the number of clamped edges.
+int reset_rest_shape(YarnSystem& system, const Eigen::VectorXd& g, double max_length_change);
+
+}  // namespace yarnfit::yarn

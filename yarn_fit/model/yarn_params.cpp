@@ -1,0 +1,119 @@
+#include "yarn_fit/model/yarn_params.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <array>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace yarnfit::yarn {
+
+std::optional<std::string> YarnParams::invalid_reason() const {
+  const std::array<std::pair<const char*, double>, 7> positive{
+      {{"ks1", ks1}, {"kb", kb}, {"R1", r1}, {"kc1", kc1}, {"ks2", ks2}, {"kc2", kc2}, {"R2", r2}}};
+  for (const auto& [key, value] : positive) {
+    if (!std::isfinite(value) || value <= 0.0)
+      return std::string(key) + " must be a finite value > 0, got " + std::to_string(value);
+  }
+  if (!std::isfinite(eps_s) || eps_s < 0.0)
+    return "eps_s must be a finite value >= 0, got " + std::to_string(eps_s);
+  if (ks1 > ks2) return "ks1 must not exceed ks2 (the stiff phase is the stiffer one)";
+  if (r2 >= r1) return "R2 must be smaller than R1 (the stiff barrier is the inner one)";
+  return std::nullopt;
+}
+
+YarnParams default_params(const ParameterScales& scales) {
+  YarnParams p;
+  p.ks2 = scales.ks2;
+  p.ks1 = 0.03 * scales.ks2;
+  p.eps_s = 0.075;
+  p.kb = 0.1 * scales.kb_base();
+  p.r1 = scales.r_est;
+  p.kc1 = scales.kc_base();
+  p.kc2 = scales.kc2();
+  p.r2 = scales.r2();
+  return p;
+}
+
+nlohmann::json to_json(const YarnParams& p) {
+  return nlohmann::json{{"ks1", p.ks1}, {"eps_s", p.eps_s}, {"kb", p.kb}, {"R1", p.r1},
+                        {"kc1", p.kc1}, {"ks2", p.ks2},     {"kc2", p.kc2}, {"R2", p.r2}};
+}
+
+std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
+                                           const std::optional<ParameterScales>& scales,
+                                           db::Problems& problems) {
+  const std::string label = file.string();
+  YAML::Node doc;
+  try {
+    doc = YAML::LoadFile(file.string());
+  } catch (const YAML::BadFile&) {
+    problems.add(label, 0, "file", "cannot read the yarn parameter file");
+    return std::nullopt;
+  } catch (const YAML::ParserException& e) {
+    problems.add(label, e.mark.line + 1, "file", "not valid YAML: " + e.msg);
+    return std::nullopt;
+  }
+  if (!doc.IsMap()) {
+    problems.add(label, doc.Mark().line + 1, "file",
+                 "expected a mapping of yarn parameters (ks1, eps_s, kb, R1, kc1, ks2, kc2, R2)");
+    return std::nullopt;
+  }
+  // A yarn_fit.json may be passed directly: read its `params`.
+  const YAML::Node root = doc["params"] && doc["params"].IsMap() ? doc["params"] : doc;
+
+  YarnParams p;
+  const std::array<std::pair<const char*, double*>, 8> keys{{{"ks1", &p.ks1},
+                                                             {"eps_s", &p.eps_s},
+                                                             {"kb", &p.kb},
+                                                             {"R1", &p.r1},
+                                                             {"kc1", &p.kc1},
+                                                             {"ks2", &p.ks2},
+                                                             {"kc2", &p.kc2},
+                                                             {"R2", &p.r2}}};
+  const std::size_t before = problems.size();
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    bool known = false;
+    for (const auto& [name, target] : keys) known = known || key == name;
+    if (!known && root == doc)
+      problems.add(label, entry.first.Mark().line + 1, key,
+                   "unknown key; expected ks1, eps_s, kb, R1, kc1, ks2, kc2, R2");
+  }
+  for (const auto& [name, target] : keys) {
+    const YAML::Node node = root[name];
+    if (!node) {
+      const std::string key = name;
+      if (scales && key == "ks2") {
+        *target = scales->ks2;
+      } else if (scales && key == "kc2") {
+        *target = scales->kc2();
+      } else if (scales && key == "R2") {
+        *target = scales->r2();
+      } else {
+        problems.add(label, root.Mark().line + 1, name, "missing");
+      }
+      continue;
+    }
+    double value = 0.0;
+    try {
+      value = node.as<double>();
+    } catch (const YAML::Exception&) {
+      problems.add(label, node.Mark().line + 1, name, "expected a number in SI units");
+      continue;
+    }
+    if (!std::isfinite(value)) {
+      problems.add(label, node.Mark().line + 1, name, "must be finite");
+      continue;
+    }
+    *target = value;
+  }
+  if (problems.size() != before) return std::nullopt;
+  if (const auto reason = p.invalid_reason()) {
+    problems.add(label, root.Mark().line + 1, "params", *reason);
+    return std::nullopt;
+  }
+  return p;
+}
+
+}  // namespace yarnfit::yarn

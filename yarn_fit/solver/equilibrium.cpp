@@ -1,0 +1,185 @@
+#include "yarn_fit/solver/equilibrium.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace yarnfit::yarn {
+
+const char* to_string(Termination t) {
+  switch (t) {
+    case Termination::converged: return "converged";
+    case Termination::max_iterations: return "max_iterations";
+    case Termination::line_search_failed: return "line_search_failed";
+    case Termination::non_finite: return "non_finite";
+    case Termination::invalid_start: return "invalid_start";
+    case Termination::time_limit: return "time_limit";
+  }
+  return "unknown";
+}
+
+Eigen::VectorXd projected_gradient(const YarnSystem& system, const Eigen::VectorXd& gradient) {
+  const Eigen::MatrixXd& c = system.constraints();
+  const Eigen::MatrixXd cct = c * c.transpose();
+  const Eigen::VectorXd lambda = cct.ldlt().solve(c * gradient);
+  return gradient - c.transpose() * lambda;
+}
+
+EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
+                                    const EquilibriumOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+
+  EquilibriumResult result;
+  const int n = system.dof_count();
+  if (g.size() != n) g = Eigen::VectorXd::Zero(n);
+  const Eigen::MatrixXd& c = system.constraints();
+  // Project the start onto C g = 0 (a warm start from another tile state may drift).
+  {
+    const Eigen::MatrixXd cct = c * c.transpose();
+    g -= c.transpose() * cct.ldlt().solve(c * g);
+  }
+  const double radius = system.tile().radius;
+  const double step_cap = options.max_step_radii * radius;
+  result.tolerance = options.force_tolerance > 0.0 ? options.force_tolerance : 1e-9 * system.params().ks2;
+
+  const auto finish = [&](Termination reason, std::string message) {
+    result.reason = reason;
+    result.converged = reason == Termination::converged;
+    result.message = std::move(message);
+    result.constraint_violation = (c * g).lpNorm<Eigen::Infinity>();
+    result.min_contact_distance = system.min_contact_distance(g);
+    result.seconds = elapsed();
+    return result;
+  };
+
+  // The Verlet list stays valid while every vertex moved less than skin/2 since its build;
+  // a trial step adds up to step_cap, so rebuild before the margin runs out.
+  const auto ensure_contacts = [&](const Eigen::VectorXd& at) {
+    if (system.contacts_stale(at, step_cap)) {
+      system.rebuild_contacts(at);
+      ++result.contact_rebuilds;
+    }
+  };
+  ensure_contacts(g);
+
+  Eigen::VectorXd grad;
+  double energy = system.energy_gradient(g, grad);
+  if (!std::isfinite(energy) || !grad.allFinite()) {
+    result.energy = energy;
+    return finish(Termination::invalid_start,
+                  "the start state has infinite or undefined energy (yarns overlap inside the "
+                  "inner contact barrier)");
+  }
+  Eigen::VectorXd z = projected_gradient(system, grad);
+  result.initial_residual = z.lpNorm<Eigen::Infinity>();
+  result.residual = result.initial_residual;
+  result.energy = energy;
+
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  int factored_generation = -1;
+  YarnSystem::Triplets triplets;
+  Eigen::SparseMatrix<double> k(n, n);
+  constexpr double kShiftMin = 1e-10, kShiftMax = 1e2;
+  double shift_scale = 1e-8;  // α relative to the mean diagonal
+
+  for (int it = 0; it < options.max_iterations; ++it) {
+    result.iterations = it;
+    if (result.residual <= result.tolerance) return finish(Termination::converged, "");
+    if (options.time_limit_s > 0.0 && elapsed() > options.time_limit_s)
+      return finish(Termination::time_limit, "time limit reached before convergence");
+
+    triplets.clear();
+    for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, 0.0);  // keeps the pattern fixed
+    system.hessian(g, triplets, true);
+    k.resize(n, n);
+    k.setFromTriplets(triplets.begin(), triplets.end());
+    const double mean_diag = std::max(k.diagonal().cwiseAbs().mean(), 1e-300);
+
+    bool accepted = false;
+    for (int attempt = 0; attempt < 8 && !accepted; ++attempt) {
+      Eigen::SparseMatrix<double> kk = k;
+      const double alpha = shift_scale * mean_diag;
+      for (int i = 0; i < n; ++i) kk.coeffRef(i, i) += alpha;
+      if (factored_generation != system.contact_generation()) {
+        solver.analyzePattern(kk);
+        factored_generation = system.contact_generation();
+      }
+      solver.factorize(kk);
+      if (solver.info() != Eigen::Success) {
+        shift_scale = std::min(shift_scale * 100.0, kShiftMax);
+        continue;
+      }
+      const Eigen::VectorXd d0 = solver.solve(-grad);
+      const Eigen::MatrixXd y = solver.solve(Eigen::MatrixXd(c.transpose()));
+      const Eigen::MatrixXd s = c * y;
+      const Eigen::VectorXd lambda = s.ldlt().solve(c * d0 + c * g);
+      Eigen::VectorXd delta = d0 - y * lambda;
+      if (!delta.allFinite()) {
+        shift_scale = std::min(shift_scale * 100.0, kShiftMax);
+        continue;
+      }
+      // Step limits: displacement cap and collision-free fraction.
+      double max_move = 0.0;
+      for (int v = 0; v < n / 3; ++v) max_move = std::max(max_move, delta.segment<3>(3 * v).norm());
+      double t = 1.0;
+      bool limited = false;
+      if (max_move > step_cap) {
+        t = step_cap / max_move;
+        limited = true;
+      }
+      const double t_safe = system.collision_free_fraction(g, t * delta);
+      if (t_safe < 1.0) {
+        t *= t_safe;
+        limited = true;
+      }
+      const double slope = grad.dot(delta);
+      if (!(slope < 0.0)) {
+        shift_scale = std::min(shift_scale * 100.0, kShiftMax);
+        continue;
+      }
+      for (int ls = 0; ls < 40; ++ls) {
+        const Eigen::VectorXd trial = g + t * delta;
+        const double e = system.energy(trial);
+        if (std::isfinite(e) && e <= energy + 1e-4 * t * slope) {
+          g = trial;
+          accepted = true;
+          break;
+        }
+        // Round-off floor: no measurable decrease is possible any more.
+        if (std::isfinite(e) && std::abs(e - energy) <= 1e-14 * std::abs(energy) && ls > 20) break;
+        t *= 0.5;
+        limited = true;
+      }
+      if (accepted) {
+        shift_scale = limited ? std::min(shift_scale * 4.0, kShiftMax) : std::max(shift_scale * 0.25, kShiftMin);
+      } else {
+        shift_scale = std::min(shift_scale * 100.0, kShiftMax);
+      }
+    }
+    if (!accepted) {
+      // At the precision limit the residual may sit just above the tolerance.
+      if (result.residual <= 1e3 * result.tolerance)
+        return finish(Termination::converged, "stopped at the round-off floor of the energy");
+      return finish(Termination::line_search_failed,
+                    "no step decreased the energy (residual " + std::to_string(result.residual) +
+                        " N, tolerance " + std::to_string(result.tolerance) + " N)");
+    }
+    ensure_contacts(g);
+    energy = system.energy_gradient(g, grad);
+    if (!std::isfinite(energy) || !grad.allFinite())
+      return finish(Termination::non_finite, "energy became non-finite after a contact rebuild");
+    z = projected_gradient(system, grad);
+    result.residual = z.lpNorm<Eigen::Infinity>();
+    result.energy = energy;
+  }
+  result.iterations = options.max_iterations;
+  if (result.residual <= result.tolerance) return finish(Termination::converged, "");
+  return finish(Termination::max_iterations, "iteration limit reached (residual " +
+                                                  std::to_string(result.residual) + " N)");
+}
+
+}  // namespace yarnfit::yarn
