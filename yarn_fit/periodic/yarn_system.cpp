@@ -224,7 +224,8 @@ void YarnSystem::hessian(const Eigen::VectorXd& g, Triplets& out, bool project_p
     Mat<3 * nv> local;
     local.setZero();
     const double e = element(static_cast<Vec<3 * nv>*>(nullptr), &local, project_psd);
-    if (!std::isfinite(e)) return;
+    // Contact pairs beyond the cutoff have a zero block: leave them out of the pattern.
+    if (!std::isfinite(e) || (nv == 4 && e == 0.0)) return;
     if (curved) {
       Eigen::Matrix<double, 3 * nv, 3 * nv> r = Eigen::Matrix<double, 3 * nv, 3 * nv>::Zero();
       for (int i = 0; i < nv; ++i)

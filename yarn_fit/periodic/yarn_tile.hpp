@@ -16,6 +16,7 @@
 // same energy. Pairs made of ghost copies only are never formed.
 
 #include <Eigen/Core>
+#include <cmath>
 #include <vector>
 
 #include "fabrics_db/tile/periodic_tile.hpp"
@@ -71,7 +72,9 @@ struct YarnTile {
 
   [[nodiscard]] int vertex_count() const { return static_cast<int>(reference.size()); }
   [[nodiscard]] int edge_count() const { return static_cast<int>(edges.size()); }
-  [[nodiscard]] double area() const { return std::abs(lattice.determinant()); }
+  [[nodiscard]] double area() const {
+    return std::abs(lattice(0, 0) * lattice(1, 1) - lattice(0, 1) * lattice(1, 0));
+  }
   // Reference position of vertex v copied into `cell`.
   [[nodiscard]] Eigen::Vector3d reference_at(int v, const Cell& cell) const;
 

@@ -80,10 +80,10 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
   result.energy = energy;
 
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-  int factored_generation = -1;
   YarnSystem::Triplets triplets;
   Eigen::SparseMatrix<double> k(n, n);
   constexpr double kShiftMin = 1e-10, kShiftMax = 1e2;
+  const bool use_exact = true;
   double shift_scale = 1e-8;  // α relative to the mean diagonal
 
   for (int it = 0; it < options.max_iterations; ++it) {
@@ -92,24 +92,40 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
     if (options.time_limit_s > 0.0 && elapsed() > options.time_limit_s)
       return finish(Termination::time_limit, "time limit reached before convergence");
 
-    triplets.clear();
-    for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, 0.0);  // keeps the pattern fixed
-    system.hessian(g, triplets, true);
-    k.resize(n, n);
-    k.setFromTriplets(triplets.begin(), triplets.end());
-    const double mean_diag = std::max(k.diagonal().cwiseAbs().mean(), 1e-300);
+    // The exact Hessian gives quadratic convergence near equilibrium, where it is positive
+    // definite on the constraint space; the per-element PSD projection is the safeguard when
+    // it is not (far from equilibrium, or at an unstable state). Projected-only Newton
+    // converges linearly when some elements are indefinite at the solution (edges in
+    // compression, barrier curvature).
+    bool projected = !use_exact;
+    const auto assemble = [&] {
+      triplets.clear();
+      for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, 0.0);  // keeps the pattern fixed
+      system.hessian(g, triplets, projected);
+      k.resize(n, n);
+      k.setFromTriplets(triplets.begin(), triplets.end());
+    };
+    assemble();
+    double mean_diag = std::max(k.diagonal().cwiseAbs().mean(), 1e-300);
 
     bool accepted = false;
     for (int attempt = 0; attempt < 8 && !accepted; ++attempt) {
       Eigen::SparseMatrix<double> kk = k;
       const double alpha = shift_scale * mean_diag;
       for (int i = 0; i < n; ++i) kk.coeffRef(i, i) += alpha;
-      if (factored_generation != system.contact_generation()) {
-        solver.analyzePattern(kk);
-        factored_generation = system.contact_generation();
-      }
+      // The pattern follows the active contacts, which change between iterations; the
+      // symbolic analysis is cheap next to the numeric factorisation at these sizes.
+      solver.analyzePattern(kk);
       solver.factorize(kk);
-      if (solver.info() != Eigen::Success) {
+      const bool definite = solver.info() == Eigen::Success && solver.vectorD().minCoeff() > 0.0;
+      if (!definite && !projected) {
+        projected = true;
+        assemble();
+        mean_diag = std::max(k.diagonal().cwiseAbs().mean(), 1e-300);
+        --attempt;
+        continue;
+      }
+      if (!definite) {
         shift_scale = std::min(shift_scale * 100.0, kShiftMax);
         continue;
       }
@@ -137,6 +153,13 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
         limited = true;
       }
       const double slope = grad.dot(delta);
+      if (!(slope < 0.0) && !projected) {
+        projected = true;
+        assemble();
+        mean_diag = std::max(k.diagonal().cwiseAbs().mean(), 1e-300);
+        --attempt;
+        continue;
+      }
       if (!(slope < 0.0)) {
         shift_scale = std::min(shift_scale * 100.0, kShiftMax);
         continue;
