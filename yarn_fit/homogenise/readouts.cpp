@@ -44,7 +44,9 @@ namespace {
 struct CompressionSearch {
   YarnSystem& system;
   CoarseDeformation chi;
-  Eigen::VectorXd g;  // warm start carried between evaluations
+  Eigen::VectorXd anchor;  // start state of every evaluation
+  Eigen::VectorXd g;       // state of the last converged evaluation
+  Eigen::VectorXd best_g;  // state of the lowest Ψ seen
   const EquilibriumOptions& options;
   int evaluations = 0;
   int iterations = 0;
@@ -53,10 +55,13 @@ struct CompressionSearch {
   Sample best;
   double best_psi = std::numeric_limits<double>::infinity();
 
+  // Every evaluation starts from the same state (the caller's warm start): knit tiles have
+  // several equilibria close together, and chaining warm starts from one trial compression
+  // to the next would make Ψ(c) depend on the order of the search (hysteresis).
   Sample at(double c) {
     CoarseDeformation x = chi;
     x.compression = c;
-    Eigen::VectorXd trial = g;
+    Eigen::VectorXd trial = anchor;
     Sample s = simulate_sample(system, x, trial, options);
     ++evaluations;
     iterations += s.newton_iterations;
@@ -65,6 +70,7 @@ struct CompressionSearch {
       if (s.energy_density < best_psi) {
         best_psi = s.energy_density;
         best = s;
+        best_g = trial;
       }
     } else {
       failed = true;
@@ -87,7 +93,7 @@ double cobyla_objective(unsigned n, const double* x, double* grad, void* data) {
 Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::VectorXd& g,
                               const CompressionOptions& co, const EquilibriumOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  CompressionSearch search{system, chi, g, options, 0, 0, false, Sample{}, Sample{},
+  CompressionSearch search{system, chi, g, g, g, options, 0, 0, false, Sample{}, Sample{},
                            std::numeric_limits<double>::infinity()};
   Sample result;
   if (co.method == CompressionMethod::cobyla) {
@@ -176,7 +182,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
       }
     }
   }
-  if (result.ok) g = search.g;
+  if (result.ok) g = co.method == CompressionMethod::cobyla ? search.best_g : search.g;
   result.solves = search.evaluations;
   result.newton_iterations = search.iterations;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
