@@ -40,7 +40,8 @@ struct BiphasicStretch {
   [[nodiscard]] double d2w(double strain) const;  // d²w/dε² [N] (one-sided: the right limit)
 };
 
-// Edge element on (x0, x1): DOF order x0, x1.
+// Edge element on (x0, x1): DOF order x0, x1. +inf for a zero-length edge (no direction) or a
+// rest length ≤ 0. Projection clamps the axial (w''/L̄) and transverse (w'/l) curvatures at 0.
 double stretch_element(const Vec3& x0, const Vec3& x1, double rest_length,
                        const BiphasicStretch& model, Vec<6>* gradient, Mat<6>* hessian,
                        bool project_psd);
@@ -59,13 +60,15 @@ struct RodBending {
   double kb = 0.0;  // bending stiffness [N·m²]
 };
 
-// DOF order x0, x1, x2. Returns +inf when a or b has zero length or φ = π (folded back).
+// DOF order x0, x1, x2. Returns +inf when a or b has zero length or φ = π (folded back:
+// a·b ≤ −(1 − 1e-12)|a||b|), or L̄a + L̄b ≤ 0.
 double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
                        double rest_length_b, double rest_curvature, const RodBending& model,
                        Vec<9>* gradient, Mat<9>* hessian, bool project_psd);
 
 // Integrated curvature magnitude κ = |κb| = 2 tan(φ/2) of the corner x0-x1-x2 (no smoothing),
-// used to reset rest curvatures (rest-shape heuristic) and by tests.
+// used to reset rest curvatures (rest-shape heuristic) and by tests. +inf where
+// bending_element is (a zero-length edge, a corner folded back).
 double corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2);
 
 // ---------------------------------------------------------------------------------------
@@ -74,7 +77,8 @@ double corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2);
 // x = D / (2R): a C² onset at D = 2R (f² ~ (1 − x)⁶) and a barrier at D → 0.
 class Barrier {
  public:
-  // f(x)² and its first two derivatives with respect to x.
+  // f(x)² and its first two derivatives with respect to x; for x ≤ 0 their limits at 0⁺
+  // (+inf, −inf, +inf), for x ≥ 1 exactly 0.
   static double value(double x);
   static double first(double x);
   static double second(double x);
@@ -89,6 +93,7 @@ struct TwoBarrierContact {
   double kc2 = 0.0;  // stiff barrier stiffness [N/m]
   double r2 = 0.0;   // stiff barrier radius R2 [m]
 
+  // A barrier with R ≤ 0 or kc = 0 is absent. e, de, d2e at D ≤ 0: +inf, −inf, +inf.
   [[nodiscard]] double cutoff_distance() const;  // 2 max(R1, R2): e(D) = 0 beyond it
   [[nodiscard]] double e(double distance) const;
   [[nodiscard]] double de(double distance) const;
