@@ -1,6 +1,7 @@
 // yarnfit shell …: fit the thin-shell model to a fabric's tests and write uniform targets.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -27,10 +28,19 @@ struct ShellArgs {
   double mesh_mm = 5.0;
   int refine = 0;
   int threads = 2;
-  int max_iterations = 60;
+  int max_iterations = 100;
   bool quiet = false;
   bool full_range = false;
 };
+
+// One status line on the terminal, rewritten in place: stage, iteration, best error, time.
+void show_fit_progress(const shell::FitProgress& p) {
+  char error[32] = "-";
+  if (std::isfinite(p.best_error_pct)) std::snprintf(error, sizeof error, "%.2f %%", p.best_error_pct);
+  std::fprintf(stderr, "\r\033[Kshell fit: %s, iteration %d, best rms error %s, %.1f s", p.stage.c_str(), p.iteration,
+               error, p.seconds);
+  std::fflush(stderr);
+}
 
 int run_shell_fit(const ShellArgs& a) {
   const auto load = db::load_fabric(a.fabric);
@@ -47,12 +57,7 @@ int run_shell_fit(const ShellArgs& a) {
   options.threads = a.threads;
   options.max_iterations = a.max_iterations;
   if (a.full_range) options.max_line_force = std::numeric_limits<double>::infinity();
-  if (show_progress) {
-    options.progress = [](int iteration, double cost, double seconds) {
-      std::fprintf(stderr, "\rshell fit: in-plane, iteration %3d, cost %.4g, %.1f s   ", iteration, cost, seconds);
-      std::fflush(stderr);
-    };
-  }
+  if (show_progress) options.progress = show_fit_progress;
   const auto fit = shell::fit_inplane(fabric, options);
   if (show_progress) std::fprintf(stderr, "\n");
 
@@ -74,12 +79,7 @@ int run_shell_fit(const ShellArgs& a) {
   } else if (fit.converged) {
     shell::BendingFitOptions bopt;
     bopt.threads = a.threads;
-    if (show_progress) {
-      bopt.progress = [](int iteration, double cost, double seconds) {
-        std::fprintf(stderr, "\rshell fit: bending, iteration %3d, cost %.4g, %.1f s   ", iteration, cost, seconds);
-        std::fflush(stderr);
-      };
-    }
+    if (show_progress) bopt.progress = show_fit_progress;
     bend = shell::fit_bending(fabric, fit.params, bopt);
     if (show_progress) std::fprintf(stderr, "\n");
     params.bending = bend->params;
@@ -225,7 +225,7 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
   fit->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->check(CLI::PositiveNumber)->capture_default_str();
   fit->add_option("--refine", args->refine, "Midpoint subdivisions of the mesh")->check(CLI::Range(0, 4))->capture_default_str();
   fit->add_option("--threads", args->threads, "Test directions simulated in parallel")->check(CLI::Range(1, 64))->capture_default_str();
-  fit->add_option("--max-iterations", args->max_iterations, "Ceres iterations")->check(CLI::Range(1, 1000))->capture_default_str();
+  fit->add_option("--max-iterations", args->max_iterations, "Ceres iterations of the in-plane fit after its multi-start")->check(CLI::Range(1, 1000))->capture_default_str();
   fit->add_flag("--full-range", args->full_range,
                 "Fit every measured point, not only up to the power range (83.3 N/m line force)");
   fit->add_flag("-q,--quiet", args->quiet, "No progress or summary");

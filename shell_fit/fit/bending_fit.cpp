@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -84,7 +85,8 @@ struct Guess {
   std::array<bool, 3> measured{false, false, false};
 };
 
-Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, const BendingFitOptions& options) {
+Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, const BendingFitOptions& options,
+                      ProgressCallback* progress = nullptr) {
   Guess out;
   const double rho = areal_density_of(fabric);
   const double g = options.gravity;
@@ -98,12 +100,15 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
     const double d = t.clamp_distance[mid], r_target = t.measured_aspect_ratio[mid];
     const double L = test.swatch.length;
     const auto [ell_min, ell_max] = length_bounds(test, inplane, rho, g);
+    if (progress) progress->set_stage("bending start (" + std::string(db::to_string(dir)) + ")");
+    int trial = 0;
     // r at bending length ℓ, or NaN when the loop did not reach equilibrium.
     const auto r_at = [&](double ell) {
       ShellParams p;
       p.inplane = inplane;
       p.bending = uniform(ktheta_for_bending_length(ell, rho, g));
       const PearLoopRun run = scene.run(p, {d});
+      if (progress) progress->report(++trial, std::numeric_limits<double>::infinity());
       return run.ok ? run.samples[0].aspect_ratio : std::nan("");
     };
     // Bracket r_target between ℓ_lo (r above it) and ℓ_hi (r below it), doubling ℓ.
@@ -302,7 +307,19 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     }
   }
 
-  const Guess guess = guess_from_data(fabric, inplane, options);
+  // Displayed error: root-mean-square aspect-ratio residual over the mean measured ratio [%].
+  double r_sum = 0.0, n_res = 0.0;
+  for (const auto& d : result.directions)
+    for (double r : d.measured_aspect_ratio) {
+      r_sum += std::abs(r);
+      n_res += 1.0;
+    }
+  const double r_mean = std::max(r_sum / std::max(n_res, 1.0), 1e-12);
+  ProgressCallback progress(options.progress, start_time, [n_res, r_mean](double c) {
+    return 100.0 * std::sqrt(2.0 * c / std::max(n_res, 1.0)) / r_mean;
+  });
+  quiet_solver_warnings();
+  const Guess guess = guess_from_data(fabric, inplane, options, &progress);
   result.start = guess.params;
   std::vector<int> free, held;
   for (int j = 0; j < 3; ++j) (measured[idx(j)] ? free : held).push_back(j);
@@ -335,9 +352,8 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   }
   // r is read to ~1e-6 (Newton tolerance, parabolic extremes): tighter tolerances only chase
   // that noise (with 1e-10 a 3-direction fit spent 7 of its 10 iterations there).
-  ProgressCallback progress(options.progress);
-  const ceres::Solver::Options so =
-      least_squares_options(options.max_iterations, 1e-7, 1e-6, &progress, static_cast<bool>(options.progress));
+  progress.set_stage("bending");
+  const ceres::Solver::Options so = least_squares_options(options.max_iterations, 1e-7, 1e-6, &progress);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
 

@@ -30,6 +30,7 @@
 
 #include "fabrics_db/records/fabric.hpp"
 #include "shell_fit/core/shell_params.hpp"
+#include "shell_fit/fit/fit_progress.hpp"
 #include "shell_fit/scenes/pear_loop.hpp"
 
 namespace yarnfit::shell {
@@ -45,8 +46,8 @@ struct BendingFitOptions {
   int max_iterations = 40;
   int threads = 1;              // directions simulated in parallel
   double gravity = 9.81;        // [m/s²]
-  // Called after every iteration: iteration, cost, seconds so far.
-  std::function<void(int, double, double)> progress;
+  // Called after every iteration and every trial of the start search.
+  FitProgressFn progress;
 };
 
 struct BendingDirectionFit {

@@ -4,28 +4,60 @@
 // solves), and progress reported through a plain callback.
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <functional>
+#include <limits>
+#include <string>
 #include <utility>
+
+#include "shell_fit/fit/fit_progress.hpp"
 
 namespace yarnfit::shell {
 
-// Forwards Ceres iterations to fn(iteration, cost, seconds so far).
+// Forwards Ceres iterations as FitProgress: the stage's name, the iteration, the best error
+// so far (error_of(cost) over this and earlier stages) and the seconds since `start`.
 class ProgressCallback : public ceres::IterationCallback {
  public:
-  explicit ProgressCallback(std::function<void(int, double, double)> fn) : m_fn(std::move(fn)) {}
+  ProgressCallback(FitProgressFn fn, std::chrono::steady_clock::time_point start, std::function<double(double)> error_of)
+      : m_fn(std::move(fn)), m_start(start), m_error_of(std::move(error_of)) {}
+  void set_stage(std::string stage) { m_stage = std::move(stage); }
+  // Reports a step that is not a Ceres iteration (a start search's trial).
+  void report(int iteration, double cost) {
+    if (std::isfinite(cost)) m_best = std::min(m_best, m_error_of(cost));
+    if (!m_fn) return;
+    FitProgress p;
+    p.stage = m_stage;
+    p.iteration = iteration;
+    p.best_error_pct = std::isfinite(m_best) ? m_best : std::numeric_limits<double>::quiet_NaN();
+    p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    m_fn(p);
+  }
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (m_fn) m_fn(s.iteration, s.cost, s.cumulative_time_in_seconds);
+    report(s.iteration, s.cost);
     return ceres::SOLVER_CONTINUE;
   }
+  [[nodiscard]] bool active() const { return static_cast<bool>(m_fn); }
 
  private:
-  std::function<void(int, double, double)> m_fn;
+  FitProgressFn m_fn;
+  std::chrono::steady_clock::time_point m_start;
+  std::function<double(double)> m_error_of;
+  std::string m_stage;
+  double m_best = std::numeric_limits<double>::infinity();
 };
+
+// Ceres logs a warning for every trial point whose evaluation fails; the fits return false on
+// purpose there (a scene did not reach equilibrium: Ceres shrinks its step), so those lines
+// are noise for the user. Errors are still logged.
+inline void quiet_solver_warnings() { FLAGS_minloglevel = std::max(FLAGS_minloglevel, 2); }
 
 inline ceres::Solver::Options least_squares_options(int max_iterations, double function_tolerance,
                                                     double parameter_tolerance,
-                                                    ProgressCallback* progress, bool report_progress) {
+                                                    ProgressCallback* progress) {
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = max_iterations;
@@ -33,7 +65,8 @@ inline ceres::Solver::Options least_squares_options(int max_iterations, double f
   so.gradient_tolerance = 1e-10;
   so.parameter_tolerance = parameter_tolerance;
   so.num_threads = 1;  // parallelism is in the scenes
-  if (report_progress && progress) {
+  so.logging_type = ceres::SILENT;
+  if (progress) {
     so.callbacks.push_back(progress);
     so.update_state_every_iteration = true;
   }

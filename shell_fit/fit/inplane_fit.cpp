@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "shell_fit/targets/uniform_targets.hpp"
 
@@ -77,7 +79,14 @@ DirectionFit make_direction_targets(const db::StretchTest& test, double max_line
   return d;
 }
 
-InplaneParams initial_inplane_guess(const db::Fabric& fabric) {
+namespace {
+
+// The small-strain stiffnesses K' = K + 2 kn [[1, 1], [1, 1]] and kss from the data.
+struct SmallStrain {
+  double kxx = 0, kxy = 0, kyy = 0, kss = 0;
+};
+
+SmallStrain small_strain_stiffness(const db::Fabric& fabric) {
   // Line-force modulus E = d(F/W)/ds and contraction ratio ν = dc/ds at small stretch.
   double E[3] = {0, 0, 0}, nu[3] = {-1, -1, -1};
   for (const auto& [dir, t] : fabric.stretch_tests) {
@@ -91,7 +100,7 @@ InplaneParams initial_inplane_guess(const db::Fabric& fabric) {
   const double Ey = E[2] > 0 ? E[2] : Ex;
   // Linear orthotropic zero-lateral-stress relations: ν_x = kxy/kyy, E_x = kxx − kxy²/kyy,
   // ν_y = kxy/kxx, E_y = kyy − kxy²/kxx; a few fixed-point sweeps reconcile them.
-  InplaneParams p;
+  SmallStrain p;
   p.kxx = Ex;
   p.kyy = Ey;
   for (int it = 0; it < 20; ++it) {
@@ -108,18 +117,52 @@ InplaneParams initial_inplane_guess(const db::Fabric& fabric) {
     const double s = 1e-3;
     double lo = 1e-4 * geo, hi = 1e2 * geo;
     for (int it = 0; it < 60; ++it) {
-      InplaneParams q = p;
-      q.kss = std::sqrt(lo * hi);
+      const InplaneParams q{p.kxx, p.kxy, p.kyy, std::sqrt(lo * hi), 0.0, 0.0};
       const double Eb = uniaxial_point(q, db::pull_angle(db::Direction::bias), s).stress / s;
       (Eb < E[1] ? lo : hi) = q.kss;
     }
     p.kss = std::sqrt(lo * hi);
   }
-  // Area terms start small against the axial stiffnesses: the data fixes them through the
-  // compression at large stretch, which the fit reaches from here.
-  p.kn1 = 0.02 * geo;
-  p.kn2 = 0.02 * geo;
   return p;
+}
+
+// Share of the small-strain coupling k'xy carried by the area terms in each start.
+constexpr double k_area_shares[3] = {0.5, 0.1, 0.9};
+const char* const k_start_names[3] = {"balanced (half of the coupling from the area terms)",
+                                      "coupling mostly from kxy (10 % from the area terms)",
+                                      "coupling mostly from the area terms (90 %)"};
+
+InplaneParams split_coupling(const SmallStrain& k, double area_share) {
+  const double geo = std::sqrt(k.kxx * k.kyy);
+  // A coupling too small to split (ν ≈ 0) still leaves the area terms a small role.
+  const double coupling = std::max(k.kxy, 0.02 * geo);
+  const double kn = std::min(0.5 * area_share * coupling, 0.45 * std::min(k.kxx, k.kyy));
+  InplaneParams p;
+  p.kxx = k.kxx - 2.0 * kn;
+  p.kyy = k.kyy - 2.0 * kn;
+  p.kxy = std::max(coupling - 2.0 * kn, 0.01 * coupling);
+  p.kss = k.kss;
+  p.kn1 = 0.5 * kn;
+  p.kn2 = 0.5 * kn;
+  return p;
+}
+
+}  // namespace
+
+InplaneParams initial_inplane_guess(const db::Fabric& fabric) {
+  return split_coupling(small_strain_stiffness(fabric), k_area_shares[0]);
+}
+
+std::vector<InplaneStart> inplane_starts(const db::Fabric& fabric) {
+  const SmallStrain k = small_strain_stiffness(fabric);
+  std::vector<InplaneStart> out;
+  for (int i = 0; i < 3; ++i) {
+    InplaneStart s;
+    s.name = k_start_names[i];
+    s.params = split_coupling(k, k_area_shares[i]);
+    out.push_back(s);
+  }
+  return out;
 }
 
 namespace {
@@ -128,7 +171,8 @@ class StretchResiduals : public ceres::CostFunction {
  public:
   StretchResiduals(std::vector<ClampedStretchScene>& scenes, std::vector<DirectionFit>& data,
                    const std::vector<int>& free, const Vec6& held, int threads, int& simulations)
-      : m_scenes(scenes), m_data(data), m_free(free), m_held(held), m_threads(threads), m_simulations(simulations) {
+      : m_scenes(scenes), m_data(data), m_free(free), m_held(held), m_threads(threads), m_simulations(simulations),
+        m_warm(scenes.size()) {
     int n = 0;
     for (const auto& d : m_data) {
       m_force_weight.push_back(1.0 / std::max(mean_abs(d.measured_force), 1e-12));
@@ -145,20 +189,54 @@ class StretchResiduals : public ceres::CostFunction {
     return p;
   }
 
+  // Every evaluation computes the Jacobian too (the sensitivities cost a fraction of the
+  // equilibrium solves) and keeps it: Ceres evaluates a trial point's residuals and, when it
+  // accepts the step, asks for the Jacobian at the same point again, which then costs nothing.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const Vec6 p = params_from(parameters[0]);
+    const int nf = static_cast<int>(m_free.size());
+    const int nr = num_residuals();
+    const std::vector<double> q(parameters[0], parameters[0] + nf);
+    if (!(m_cached && q == m_cached_q)) {
+      m_cached = false;
+      m_cached_q = q;
+      m_cached_ok = simulate(q);
+      m_cached = true;
+      m_failures_in_a_row = m_cached_ok ? 0 : m_failures_in_a_row + 1;
+    }
+    if (!m_cached_ok) return false;  // Ceres shrinks its step and tries again
+    std::copy(m_res.begin(), m_res.end(), residuals);
+    if (jacobians && jacobians[0]) std::copy(m_jac.begin(), m_jac.begin() + nr * nf, jacobians[0]);
+    return true;
+  }
+
+  // Evaluations that failed (a scene did not reach equilibrium) since the last that worked.
+  [[nodiscard]] int failures_in_a_row() const { return m_failures_in_a_row; }
+
+  // Before a new Ceres run: forgets the failures (the cache and the warm starts stay valid).
+  void new_run() const { m_failures_in_a_row = 0; }
+
+ private:
+  bool simulate(const std::vector<double>& q) const {
+    const Vec6 p = params_from(q.data());
     const InplaneParams ip = from_vec(p);
     std::vector<ClampedStretchRun> runs(m_data.size());
-    const bool want_jacobian = jacobians && jacobians[0];
 #pragma omp parallel for num_threads(m_threads) schedule(dynamic)
     for (int k = 0; k < static_cast<int>(m_data.size()); ++k) {
-      runs[static_cast<std::size_t>(k)] = m_scenes[static_cast<std::size_t>(k)].run(ip, m_data[static_cast<std::size_t>(k)].stretch, want_jacobian);
+      const auto kk = static_cast<std::size_t>(k);
+      runs[kk] = m_scenes[kk].run(ip, m_data[kk].stretch, true, &m_warm[kk]);
     }
     m_simulations += static_cast<int>(m_data.size());
-    int r = 0;
     const int nf = static_cast<int>(m_free.size());
+    m_res.assign(static_cast<std::size_t>(num_residuals()), 0.0);
+    m_jac.assign(m_res.size() * static_cast<std::size_t>(nf), 0.0);
+    int r = 0;
     for (std::size_t k = 0; k < m_data.size(); ++k) {
-      if (!runs[k].ok) return false;  // Ceres shrinks its step and tries again
+      if (!runs[k].ok) {
+        m_warm[k] = ClampedStretchWarmStart{};  // its states may be far from any good point
+        return false;
+      }
+    }
+    for (std::size_t k = 0; k < m_data.size(); ++k) {
       auto& d = m_data[k];
       d.simulated_force.clear();
       d.simulated_compression.clear();
@@ -166,21 +244,28 @@ class StretchResiduals : public ceres::CostFunction {
         const auto& smp = runs[k].samples[i];
         d.simulated_force.push_back(smp.force);
         d.simulated_compression.push_back(smp.compression);
-        residuals[r] = m_force_weight[k] * (smp.force - d.measured_force[i]);
-        if (want_jacobian)
-          for (int j = 0; j < nf; ++j) jacobians[0][r * nf + j] = m_force_weight[k] * smp.dforce_dp[m_free[static_cast<std::size_t>(j)]] * p[m_free[static_cast<std::size_t>(j)]];
+        const auto ur = static_cast<std::size_t>(r);
+        m_res[ur] = m_force_weight[k] * (smp.force - d.measured_force[i]);
+        for (int j = 0; j < nf; ++j) {
+          const auto fj = static_cast<std::size_t>(m_free[static_cast<std::size_t>(j)]);
+          m_jac[ur * static_cast<std::size_t>(nf) + static_cast<std::size_t>(j)] =
+              m_force_weight[k] * smp.dforce_dp[static_cast<Eigen::Index>(fj)] * p[static_cast<Eigen::Index>(fj)];
+        }
         ++r;
         if (d.measured_compression.empty()) continue;
-        residuals[r] = m_comp_weight[k] * (smp.compression - d.measured_compression[i]);
-        if (want_jacobian)
-          for (int j = 0; j < nf; ++j) jacobians[0][r * nf + j] = m_comp_weight[k] * smp.dcompression_dp[m_free[static_cast<std::size_t>(j)]] * p[m_free[static_cast<std::size_t>(j)]];
+        const auto uc = static_cast<std::size_t>(r);
+        m_res[uc] = m_comp_weight[k] * (smp.compression - d.measured_compression[i]);
+        for (int j = 0; j < nf; ++j) {
+          const auto fj = static_cast<std::size_t>(m_free[static_cast<std::size_t>(j)]);
+          m_jac[uc * static_cast<std::size_t>(nf) + static_cast<std::size_t>(j)] =
+              m_comp_weight[k] * smp.dcompression_dp[static_cast<Eigen::Index>(fj)] * p[static_cast<Eigen::Index>(fj)];
+        }
         ++r;
       }
     }
     return true;
   }
 
- private:
   std::vector<ClampedStretchScene>& m_scenes;
   std::vector<DirectionFit>& m_data;
   std::vector<int> m_free;
@@ -188,9 +273,20 @@ class StretchResiduals : public ceres::CostFunction {
   int m_threads;
   int& m_simulations;
   std::vector<double> m_force_weight, m_comp_weight;
+  mutable std::vector<ClampedStretchWarmStart> m_warm;
+  mutable bool m_cached = false, m_cached_ok = false;
+  mutable int m_failures_in_a_row = 0;
+  mutable std::vector<double> m_cached_q, m_res, m_jac;
 };
 
 
+}  // namespace
+
+namespace {
+// Restarts of a Ceres run that stalled on failed trial points (see solve below).
+constexpr int k_max_restarts = 3;
+// A run needs ~5–10 Newton iterations per target; 25 per target is a trial point in trouble.
+constexpr int k_newton_budget_per_target = 25;
 }  // namespace
 
 InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& options) {
@@ -205,7 +301,8 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
                        fabric.stretch_tests.count(db::Direction::warp) > 0};
   for (const auto& [dir, t] : fabric.stretch_tests) result.compression_measured |= t.curve.has_compression();
 
-  result.start = initial_inplane_guess(fabric);
+  result.starts = inplane_starts(fabric);
+  result.start = result.starts[0].params;
   Vec6 held = to_vec(result.start);
   // Which parameters the tests determine (indices into kxx kxy kyy kss kn1 kn2).
   std::vector<int> free;
@@ -219,44 +316,110 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   if (has[2]) free.push_back(2);
   else note(2, "no warp test (held equal to kxx, isotropic prior)");
   if (has[1]) free.push_back(3);
-  else note(3, "no bias test (prior (sqrt(kxx*kyy) - kxy)/2 from the start values: " + std::to_string(held[3]) + " N/m)");
+  else note(3, "no bias test (prior (sqrt(k'xx*k'yy) - k'xy)/2 from the small-strain slopes: " +
+                   std::to_string(held[3]) + " N/m)");
   if (result.compression_measured) {
     free.push_back(4);
     free.push_back(5);
   } else {
-    held[1] = 0.0;
-    held[4] = 0.0;
-    held[5] = 1e-3 * std::sqrt(held[0] * held[2]);
+    // Without compression the coupling cannot be split: one start, with the small-strain
+    // stiffnesses as they are.
+    result.starts.resize(1);
+    result.starts[0].name = "small-strain slopes";
+    const SmallStrain k = small_strain_stiffness(fabric);
+    result.starts[0].params = {k.kxx, 0.0, k.kyy, k.kss, 0.0, 1e-3 * std::sqrt(k.kxx * k.kyy)};
+    result.start = result.starts[0].params;
+    held = to_vec(result.start);
     note(4, "no compression measured (held at 0)");
     note(5, "no compression measured (weak barrier 1e-3*sqrt(kxx*kyy))");
   }
   for (int i : free) result.identified.push_back(k_inplane_names[i]);
+  if (options.start_iterations <= 0) result.starts.resize(1);
 
   std::vector<ClampedStretchScene> scenes;
   for (const auto& [dir, t] : fabric.stretch_tests) {
-    scenes.emplace_back(stretch_setup(t, options.target_edge, options.refinements));
+    ClampedStretchSetup setup = stretch_setup(t, options.target_edge, options.refinements);
+    setup.max_newton_iterations = k_newton_budget_per_target * k_stretch_targets_per_direction;
+    scenes.emplace_back(setup);
     result.directions.push_back(make_direction_targets(t, options.max_line_force));
   }
 
-  std::vector<double> q;
-  for (int i : free) q.push_back(std::log(held[i]));
   // Bounds keep the search physical: 1e-4…1e4 times the data-based axial scale.
   const double scale = std::sqrt(held[0] * held[2]);
-  auto* cost = new StretchResiduals(scenes, result.directions, free, held, std::max(1, options.threads), result.simulations);
-  ceres::Problem problem;
-  problem.AddResidualBlock(cost, nullptr, q.data());
-  for (int j = 0; j < static_cast<int>(free.size()); ++j) {
-    problem.SetParameterLowerBound(q.data(), j, std::log(1e-4 * scale));
-    problem.SetParameterUpperBound(q.data(), j, std::log(1e4 * scale));
-  }
+  const double q_lo = std::log(1e-4 * scale), q_hi = std::log(1e4 * scale);
+  const auto start_q = [&](const InplaneParams& params) {
+    const Vec6 v = to_vec(params);
+    std::vector<double> q;
+    for (int i : free) q.push_back(std::clamp(std::log(v[i]), q_lo, q_hi));
+    return q;
+  };
+  // One cost function per start: each keeps the warm starts of its own path, so the best
+  // start continues from equilibria near its parameters.
+  std::vector<std::unique_ptr<StretchResiduals>> costs;
+  for (std::size_t k = 0; k < result.starts.size(); ++k)
+    costs.push_back(std::make_unique<StretchResiduals>(scenes, result.directions, free, held,
+                                                       std::max(1, options.threads), result.simulations));
+  // Displayed error: the root-mean-square normalised residual, in percent.
+  const double n_res = static_cast<double>(costs[0]->num_residuals());
+  ProgressCallback progress(options.progress, start_time,
+                            [n_res](double c) { return 100.0 * std::sqrt(2.0 * c / std::max(n_res, 1.0)); });
+  quiet_solver_warnings();
+  // Ceres treats a trial point whose scenes fail as a step of infinite cost and shrinks its
+  // trust region faster with every failure in a row; a few in a row make the next step so
+  // short that Ceres reports convergence by parameter tolerance where the fit has merely
+  // stalled. Such a stop is restarted from the point reached with a fresh trust region.
   // The residuals carry the inner solves' noise (Newton 1e-9 of the force scale, secant 1e-10 in
   // stretch); asking for less change than 1e-9 only burns iterations, and 1e-9 keeps
   // noise-free synthetic data recoverable to 1e-4.
-  ProgressCallback progress(options.progress);
-  const ceres::Solver::Options so =
-      least_squares_options(options.max_iterations, 1e-9, 1e-9, &progress, static_cast<bool>(options.progress));
+  const auto solve = [&](StretchResiduals& cost, std::vector<double>& q, int max_iterations,
+                         ceres::Solver::Summary& summary) {
+    for (int restart = 0; restart <= k_max_restarts && max_iterations > 0; ++restart) {
+      cost.new_run();
+      ceres::Problem::Options po;
+      po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem problem(po);
+      problem.AddResidualBlock(&cost, nullptr, q.data());
+      for (int j = 0; j < static_cast<int>(free.size()); ++j) {
+        problem.SetParameterLowerBound(q.data(), j, q_lo);
+        problem.SetParameterUpperBound(q.data(), j, q_hi);
+      }
+      ceres::Solver::Options so = least_squares_options(max_iterations, 1e-9, 1e-9, &progress);
+      so.initial_trust_region_radius = options.initial_trust_region_radius;
+      ceres::Solve(so, &problem, &summary);
+      const int used = static_cast<int>(summary.iterations.size()) - 1;
+      result.iterations += used;
+      max_iterations -= used;
+      if (!(summary.termination_type == ceres::CONVERGENCE && cost.failures_in_a_row() > 0)) break;
+      ++result.restarts;
+    }
+  };
+
+  // Multi-start: a few iterations from every start, then the best one to convergence.
+  std::vector<double> q = start_q(result.starts[0].params);
+  std::size_t chosen = 0;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  if (result.starts.size() > 1) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < result.starts.size(); ++k) {
+      auto& st = result.starts[k];
+      progress.set_stage("in-plane start " + std::to_string(k + 1) + "/" + std::to_string(result.starts.size()));
+      std::vector<double> qk = start_q(st.params);
+      solve(*costs[k], qk, options.start_iterations, summary);
+      st.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
+      st.cost = summary.final_cost;
+      st.iterations = static_cast<int>(summary.iterations.size()) - 1;
+      st.message = summary.BriefReport();
+      if (st.ok && st.cost < best) {
+        best = st.cost;
+        q = qk;
+        chosen = k;
+      }
+    }
+  }
+  result.chosen_start = static_cast<int>(chosen);
+  StretchResiduals* cost = costs[chosen].get();
+  progress.set_stage("in-plane");
+  solve(*cost, q, options.max_iterations, summary);
 
   // Re-evaluate at the solution so the reported curves belong to the final parameters.
   const Vec6 p = cost->params_from(q.data());
@@ -277,7 +440,6 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     }
   }
   result.params = from_vec(p);
-  result.iterations = static_cast<int>(summary.iterations.size());
   result.converged = summary.IsSolutionUsable() && final_ok &&
                      summary.termination_type == ceres::CONVERGENCE;
   result.message = final_ok ? summary.BriefReport() : "final evaluation failed: a scene did not reach equilibrium";

@@ -22,8 +22,18 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
                           {"measured_compression", d.measured_compression},
                           {"simulated_compression", d.simulated_compression}});
   }
+  nlohmann::json starts = nlohmann::json::array();
+  for (const auto& st : fit.starts) {
+    starts.push_back({{"name", st.name},
+                      {"params", params_json(st.params)},
+                      {"usable", st.ok},
+                      {"cost", st.ok ? nlohmann::json(st.cost) : nlohmann::json(nullptr)},
+                      {"iterations", st.iterations}});
+  }
   return {{"params", params_json(fit.params)},
           {"start", params_json(fit.start)},
+          {"starts", starts},
+          {"chosen_start", fit.chosen_start},
           {"errors",
            {{"stretch_force_pct", fit.stretch_force_pct},
             {"compression_pct", fit.compression_measured ? nlohmann::json(fit.compression_pct) : nlohmann::json(nullptr)}}},
@@ -37,6 +47,7 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
           {"converged", fit.converged},
           {"message", fit.message},
           {"iterations", fit.iterations},
+          {"restarts", fit.restarts},
           {"simulations", fit.simulations},
           {"directions", directions},
           {"timing_s", fit.seconds}};

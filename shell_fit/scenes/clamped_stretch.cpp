@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "shell_fit/energies/membrane_term.hpp"
@@ -103,7 +104,7 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
 }
 
 ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const std::vector<double>& targets,
-                                           bool with_sensitivities) const {
+                                           bool with_sensitivities, ClampedStretchWarmStart* warm) const {
   const auto start = std::chrono::steady_clock::now();
   ClampedStretchRun out;
   const MembraneTerm membrane(m_mesh, params, k_dim);
@@ -161,6 +162,10 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       out.message = "equilibrium at clamp stretch " + std::to_string(u) + " failed: " + s.brief();
       return false;
     }
+    if (m_setup.max_newton_iterations > 0 && out.newton_iterations > m_setup.max_newton_iterations) {
+      out.message = "Newton iteration budget of " + std::to_string(m_setup.max_newton_iterations) + " spent";
+      return false;
+    }
     x = trial;
     u_prev = u;
     return true;
@@ -173,32 +178,92 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
     return distance(m_len_a, m_len_b, state, grad) / m_rest_len - 1.0;
   };
 
-  for (const double target : targets) {
+  // A warm state's solve that needs more than this is not worth finishing: the target is then
+  // solved from the previous target's state instead.
+  NewtonOptions warm_options = options;
+  warm_options.max_iterations = 20;
+  if (warm && warm->targets.size() != targets.size()) {
+    warm->targets.assign(targets.size(), std::nan(""));
+    warm->clamp_stretch.assign(targets.size(), 0.0);
+    warm->slope.assign(targets.size(), 0.0);
+    warm->states.assign(targets.size(), Eigen::VectorXd());
+  }
+
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const double target = targets[i];
     if (!(target > -1.0)) {
       out.message = "stretch target " + std::to_string(target) + " is not > -1";
       return out;
     }
+    const bool have_warm = warm && std::abs(warm->targets[i] - target) <= 1e-12 * (1.0 + std::abs(target)) &&
+                           warm->states[i].size() == n;
+    double slope = have_warm ? warm->slope[i] : 0.0;  // dm/du, 0 while unknown
+    bool solved = false;
+    double u = 0.0;
+    if (have_warm) {
+      Eigen::VectorXd trial = warm->states[i];
+      NewtonSummary s;
+      if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, m_fixed_dofs, warm_options);
+      ++out.newton_solves;
+      out.newton_iterations += s.iterations;
+      if (s.converged()) {
+        x = trial;
+        u = u_prev = warm->clamp_stretch[i];
+        solved = true;
+      }
+    }
     // Clamp stretch u with measured(u) = target: exact without gauge marks, else secant.
-    double u = m_stretch_from_clamps ? target : u_prev + (target - measured(x, nullptr));
-    if (!solve_at(u)) return out;
+    if (!solved) {
+      u = m_stretch_from_clamps ? target : u_prev + (target - measured(x, nullptr));
+      if (!solve_at(u)) return out;
+    }
     if (!m_stretch_from_clamps) {
+      // Safeguarded secant on u: the gauge stretch grows with the clamp stretch, so every
+      // solved point narrows a bracket [lo, hi] of u, and a step that leaves it (a poor slope
+      // far from the solution) is replaced by bisection. No step more than halves or doubles
+      // the clamp length.
+      const double tol = 1e-10 * (1.0 + std::abs(target));
+      double lo = -1.0, hi = std::numeric_limits<double>::infinity();
+      const auto bracket = [&](double uu, double mm) {
+        if (mm < target) lo = std::max(lo, uu);
+        else hi = std::min(hi, uu);
+      };
+      const auto next_u = [&](double u_from, double m_from) {
+        const double down = -0.5 * (1.0 + u_from), up = 1.0 + u_from;  // the step limits
+        double step = slope > 0.0 ? (target - m_from) / slope
+                                  : std::copysign(1e-3 * (1.0 + std::abs(u_from)), target - m_from);
+        const double u_next = u_from + std::clamp(step, down, up);
+        if (u_next > lo && u_next < hi) return u_next;
+        return 0.5 * (std::max(lo, u_from + down) + std::min(hi, u_from + up));
+      };
       double u_a = u, m_a = measured(x, nullptr);
-      double u_b = u_a + 1e-3 * (1.0 + std::abs(u_a)), m_b = 0.0;
-      for (int it = 0; it < 30 && std::abs(m_a - target) > 1e-10 * (1.0 + std::abs(target)); ++it) {
+      bracket(u_a, m_a);
+      double u_b = next_u(u_a, m_a);
+      for (int it = 0; it < 30 && std::abs(m_a - target) > tol; ++it) {
         if (!solve_at(u_b)) return out;
-        m_b = measured(x, nullptr);
-        if (std::abs(m_b - target) <= 1e-10 * (1.0 + std::abs(target))) break;
-        const double slope = (m_b - m_a) / (u_b - u_a);
-        if (!(std::abs(slope) > 1e-12)) {
+        const double m_b = measured(x, nullptr);
+        bracket(u_b, m_b);
+        if (std::abs(m_b - target) <= tol) break;
+        // The secant slope, unless the two points are so close that solver noise dominates it.
+        if (std::abs(u_b - u_a) > 1e-7 * (1.0 + std::abs(u_b)) || !(slope > 0.0)) {
+          const double secant = (m_b - m_a) / (u_b - u_a);
+          if (secant > 0.0) slope = secant;
+        }
+        if (!(slope > 1e-12)) {
           out.message = "gauge stretch does not respond to the clamp stretch";
           return out;
         }
-        const double u_next = u_b + (target - m_b) / slope;
         u_a = u_b;
         m_a = m_b;
-        u_b = u_next;
+        u_b = next_u(u_a, m_a);
       }
       u = u_prev;
+      if (!(std::abs(measured(x, nullptr) - target) <= 1e-6 * (1.0 + std::abs(target)))) {
+        out.message = "gauge stretch " + std::to_string(target) + " not reached (clamp stretch " + std::to_string(u) + ")";
+        return out;
+      }
+    } else {
+      slope = 1.0;
     }
 
     ClampedStretchSample sample;
@@ -270,8 +335,15 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       if (!m_stretch_from_clamps) du_dp = -dm.head<6>() / dm[6];
       sample.dforce_dp = dF.head<6>() + dF[6] * du_dp;
       sample.dcompression_dp = dc.head<6>() + dc[6] * du_dp;
+      if (dm[6] > 0.0) slope = dm[6];
     }
     out.samples.push_back(sample);
+    if (warm) {
+      warm->targets[i] = target;
+      warm->clamp_stretch[i] = u;
+      warm->slope[i] = slope;
+      warm->states[i] = x;
+    }
   }
   out.ok = true;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

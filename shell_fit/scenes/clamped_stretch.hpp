@@ -17,6 +17,13 @@
 // measured stretch m fixed, du/dp = −(dm/dp)/(dm/du), and each output o gets
 //   do/dp|_m = ∂o/∂p + (∂o/∂x)(dx/dp) + (do/du)(du/dp).
 // One factorisation of H_ff serves all parameters.
+//
+// Warm starts (for a fit, which solves the same targets again and again with nearby
+// parameters): a ClampedStretchWarmStart keeps each target's equilibrium, its clamp stretch
+// and the slope dm/du of the measured stretch. A later run starts every target from there
+// (with gauge marks, the first clamp correction uses the stored slope), so Newton needs a few
+// iterations and the secant one or two solves; if that start fails, the target is solved from
+// the previous target's state as without a warm start.
 
 #include <optional>
 #include <string>
@@ -40,6 +47,10 @@ struct ClampedStretchSetup {
   int ny = 0;            // cells across (even)
   double target_edge = 5e-3;  // default cell size [m]
   int refinements = 0;   // midpoint subdivisions of the mesh (mesh-convergence checks)
+  // Newton iterations one run may spend over all its targets before it gives up (0: no
+  // limit). A fit sets it: a trial point that needs many times the usual effort is far from
+  // any good fit, and failing fast lets the optimiser step back sooner.
+  int max_newton_iterations = 0;
 };
 
 struct ClampedStretchSample {
@@ -62,13 +73,22 @@ struct ClampedStretchRun {
   std::vector<std::string> effects{"membrane"};
 };
 
+// Equilibria of earlier runs by target; filled and updated by ClampedStretchScene::run.
+struct ClampedStretchWarmStart {
+  std::vector<double> targets;        // measured stretch of each stored state
+  std::vector<double> clamp_stretch;  // u of each
+  std::vector<double> slope;          // dm/du there (0: unknown)
+  std::vector<Eigen::VectorXd> states;
+};
+
 class ClampedStretchScene {
  public:
   explicit ClampedStretchScene(const ClampedStretchSetup& setup);
 
   // Simulates the test at the measured stretches `targets` (ascending, > −1) with `params`.
   [[nodiscard]] ClampedStretchRun run(const InplaneParams& params, const std::vector<double>& targets,
-                                      bool with_sensitivities = false) const;
+                                      bool with_sensitivities = false,
+                                      ClampedStretchWarmStart* warm = nullptr) const;
 
   [[nodiscard]] const ShellMesh& mesh() const { return m_mesh; }
   [[nodiscard]] int vertex_count() const { return m_mesh.vertex_count(); }

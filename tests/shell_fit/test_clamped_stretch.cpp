@@ -53,6 +53,38 @@ TEST(ClampedStretch, GaugeStretchHitsTheTargetsExactly) {
 }
 
 // Sensitivities from the equilibrium Hessian against central differences of whole runs.
+// A fit solves the same targets again and again with nearby parameters: started from the
+// stored equilibria, a run reproduces a cold run's outputs (within the solver tolerances) with
+// fewer Newton iterations, and a warm start from far-off parameters still gives the right answer.
+TEST(ClampedStretch, WarmStartReproducesAColdRunWithFewerIterations) {
+  ClampedStretchSetup s;
+  s.material_angle = -std::numbers::pi / 4;
+  s.gauge_length = 0.07;
+  s.gauge_width = 0.04;
+  const ClampedStretchScene scene(s);
+  const std::vector<double> targets{0.1, 0.2, 0.3, 0.4};
+  ClampedStretchWarmStart warm;
+  ASSERT_TRUE(scene.run(k_knit, targets, true, &warm).ok);
+  for (double factor : {1.02, 3.0}) {
+    InplaneParams p = k_knit;
+    p.kxx *= factor;
+    p.kn1 *= factor;
+    const auto cold = scene.run(p, targets, true);
+    const auto hot = scene.run(p, targets, true, &warm);
+    ASSERT_TRUE(cold.ok && hot.ok) << cold.message << hot.message;
+    SCOPED_TRACE(::testing::Message() << "parameters x" << factor);
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+      EXPECT_NEAR(hot.samples[i].measured_stretch, targets[i], 1e-9);
+      EXPECT_NEAR(hot.samples[i].force, cold.samples[i].force, 1e-7 * cold.samples[i].force);
+      EXPECT_NEAR(hot.samples[i].compression, cold.samples[i].compression, 1e-7);
+      EXPECT_NEAR(hot.samples[i].dforce_dp[0], cold.samples[i].dforce_dp[0], 1e-5 * std::abs(cold.samples[i].dforce_dp[0]));
+    }
+    if (factor < 1.5) {
+      EXPECT_LT(hot.newton_iterations, cold.newton_iterations);
+    }
+  }
+}
+
 TEST(ClampedStretch, SensitivitiesMatchFiniteDifferences) {
   for (bool gauge : {false, true}) {
     ClampedStretchSetup s;
