@@ -12,6 +12,8 @@ inline constexpr int k_exit_invalid_input = 2;
 
 void add_db_commands(CLI::App& app, int& exit_code);
 void add_shell_commands(CLI::App& app, int& exit_code);
+// `shell sim`, registered on the `shell` subcommand by add_shell_commands.
+void add_shell_sim_command(CLI::App& shell, int& exit_code);
 void add_synth_commands(CLI::App& app, int& exit_code);
 
 }  // namespace yarnfit::cli

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/shell_scene_args.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
@@ -138,37 +139,42 @@ int run_shell_fit(const ShellArgs& a) {
 
 struct SynthArgs {
   std::string out, id = "synthetic_shell", family = "synthetic";
-  double kxx = 120, kxy = 35, kyy = 400, kss = 30, kn1 = 5, kn2 = 8;  // N/m
-  double weft = 0.8, bias = 0.6, warp = 0.4;                          // largest stretch; ≤ 0 omits
-  double length_mm = 100, width_mm = 60, gauge_length_mm = 0, gauge_width_mm = 0;
-  double noise = 0.0, mesh_mm = 5.0;
-  int refine = 1, points = 13;
+  ShellSceneArgs scene;
+  double weft = 0.8, bias = 0.6, warp = 0.4;  // largest stretch; ≤ 0 omits
+  std::vector<std::string> bending{"weft", "bias", "warp"};  // pear-loop tests, when k_theta is given
+  double noise = 0.0;
+  int points = 13, bend_points = shell::SyntheticShellOptions{}.bending_points;
   unsigned seed = 1;
   bool force = false;
 };
 
 int run_synth_shell(const SynthArgs& a) {
-  shell::SyntheticShellOptions o;
+  const bool any_ktheta = a.scene.ktheta_weft > 0 || a.scene.ktheta_bias > 0 || a.scene.ktheta_warp > 0;
+  const bool with_bending = any_ktheta && !a.bending.empty();
+  auto problems = check_shell_scene_args(a.scene, with_bending);
+  shell::SyntheticShellOptions o = synthetic_options(a.scene);
   o.id = a.id;
   o.family = a.family;
-  o.params.inplane = {a.kxx, a.kxy, a.kyy, a.kss, a.kn1, a.kn2};
   o.max_stretch.clear();
   if (a.weft > 0) o.max_stretch[db::Direction::weft] = a.weft;
   if (a.bias > 0) o.max_stretch[db::Direction::bias] = a.bias;
   if (a.warp > 0) o.max_stretch[db::Direction::warp] = a.warp;
-  if (o.max_stretch.empty()) {
-    std::cerr << "--weft/--bias/--warp: at least one direction needs a positive stretch\n";
+  if (o.max_stretch.empty()) problems.push_back("--weft/--bias/--warp: at least one direction needs a positive stretch");
+  if (with_bending) {
+    for (const auto& name : a.bending) {
+      const auto dir = db::parse_direction(name);
+      if (!dir) problems.push_back("--bending: " + name + ": not a direction (weft, bias, warp)");
+      else o.bending_directions.push_back(*dir);
+    }
+  }
+  if (!problems.empty()) {
+    for (const auto& p : problems) std::cerr << p << "\n";
     return k_exit_invalid_input;
   }
-  o.length = a.length_mm * 1e-3;
-  o.width = a.width_mm * 1e-3;
-  if (a.gauge_length_mm > 0) o.gauge_length = a.gauge_length_mm * 1e-3;
-  if (a.gauge_width_mm > 0) o.gauge_width = a.gauge_width_mm * 1e-3;
   o.noise = a.noise;
   o.seed = a.seed;
-  o.target_edge = a.mesh_mm * 1e-3;
-  o.refinements = a.refine;
   o.points = a.points;
+  o.bending_points = a.bend_points;
   try {
     shell::write_synthetic_shell_fabric(o, a.out, a.force);
   } catch (const std::invalid_argument& e) {
@@ -189,26 +195,27 @@ void add_synth_commands(CLI::App& app, int& exit_code) {
   synth->require_subcommand(1);
   auto args = std::make_shared<SynthArgs>();
   auto* sh = synth->add_subcommand(
-      "shell", "Simulate clamped stretch tests from shell parameters (N/m) and write a fabric record "
-               "with them under ground_truth");
+      "shell", "Simulate clamped stretch tests (and, with k_theta, pear-loop bending tests) from shell "
+               "parameters and write a fabric record with them under ground_truth");
   sh->add_option("-o,--out", args->out, "Fabric folder to write")->required();
   sh->add_option("--id", args->id, "Fabric id")->capture_default_str();
   sh->add_option("--family", args->family, "Fabric family")->capture_default_str();
-  for (auto [name, ptr] : {std::pair{"--kxx", &args->kxx}, {"--kxy", &args->kxy}, {"--kyy", &args->kyy},
-                           {"--kss", &args->kss}, {"--kn1", &args->kn1}, {"--kn2", &args->kn2}})
-    sh->add_option(name, *ptr, "Shell parameter [N/m]")->capture_default_str();
+  add_shell_parameter_options(*sh, args->scene);
   sh->add_option("--weft", args->weft, "Largest weft stretch (<= 0 omits the test)")->capture_default_str();
   sh->add_option("--bias", args->bias, "Largest bias stretch (<= 0 omits the test)")->capture_default_str();
   sh->add_option("--warp", args->warp, "Largest warp stretch (<= 0 omits the test)")->capture_default_str();
-  sh->add_option("--length-mm", args->length_mm, "Free length")->check(CLI::PositiveNumber)->capture_default_str();
-  sh->add_option("--width-mm", args->width_mm, "Width")->check(CLI::PositiveNumber)->capture_default_str();
-  sh->add_option("--gauge-length-mm", args->gauge_length_mm, "Gauge mark spacing along the pull (0: clamps)");
-  sh->add_option("--gauge-width-mm", args->gauge_width_mm, "Gauge mark spacing across (0: free edges)");
-  sh->add_option("--noise", args->noise, "Relative Gaussian noise on force and compression")->check(CLI::Range(0.0, 0.5));
+  sh->add_option("--bending", args->bending,
+                 "Directions of the pear-loop tests, written when k_theta is given (all three must be positive)")
+      ->delimiter(',')
+      ->capture_default_str();
+  add_shell_scene_options(*sh, args->scene);
+  sh->add_option("--noise", args->noise, "Relative Gaussian noise on force, compression and aspect ratio")
+      ->check(CLI::Range(0.0, 0.5));
   sh->add_option("--seed", args->seed, "Noise seed")->capture_default_str();
-  sh->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->check(CLI::PositiveNumber)->capture_default_str();
-  sh->add_option("--refine", args->refine, "Midpoint subdivisions (a mesh unlike the fit's)")->check(CLI::Range(0, 3))->capture_default_str();
-  sh->add_option("--points", args->points, "Points per curve")->check(CLI::Range(3, 1000))->capture_default_str();
+  sh->add_option("--points", args->points, "Points per stretch curve")->check(CLI::Range(3, 1000))->capture_default_str();
+  sh->add_option("--bend-points", args->bend_points, "Clamp distances per pear-loop curve, evenly over 3-34 mm")
+      ->check(CLI::Range(2, 100))
+      ->capture_default_str();
   sh->add_flag("--force", args->force, "Replace an existing record in the folder");
   sh->callback([args, &exit_code] { exit_code = run_synth_shell(*args); });
 }
@@ -230,6 +237,7 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
                 "Fit every measured point, not only up to the power range (83.3 N/m line force)");
   fit->add_flag("-q,--quiet", args->quiet, "No progress or summary");
   fit->callback([args, &exit_code] { exit_code = run_shell_fit(*args); });
+  add_shell_sim_command(*shell, exit_code);
 }
 
 }  // namespace yarnfit::cli

@@ -352,7 +352,10 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   }
   // r is read to ~1e-6 (Newton tolerance, parabolic extremes): tighter tolerances only chase
   // that noise (with 1e-10 a 3-direction fit spent 7 of its 10 iterations there).
-  progress.set_stage("bending");
+  std::string stage = "bending (";
+  for (std::size_t k = 0; k < result.directions.size(); ++k)
+    stage += (k ? ", " : "") + std::string(db::to_string(result.directions[k].direction));
+  progress.set_stage(stage + ")");
   const ceres::Solver::Options so = least_squares_options(options.max_iterations, 1e-7, 1e-6, &progress);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);

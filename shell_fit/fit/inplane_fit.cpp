@@ -394,6 +394,12 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     }
   };
 
+  // The stage names the tests fitted together, e.g. "in-plane (weft, warp)".
+  std::string stage = "in-plane (";
+  for (std::size_t k = 0; k < result.directions.size(); ++k)
+    stage += (k ? ", " : "") + std::string(db::to_string(result.directions[k].direction));
+  stage += ")";
+
   // Multi-start: a few iterations from every start, then the best one to convergence.
   std::vector<double> q = start_q(result.starts[0].params);
   std::size_t chosen = 0;
@@ -402,7 +408,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < result.starts.size(); ++k) {
       auto& st = result.starts[k];
-      progress.set_stage("in-plane start " + std::to_string(k + 1) + "/" + std::to_string(result.starts.size()));
+      progress.set_stage(stage + " start " + std::to_string(k + 1) + "/" + std::to_string(result.starts.size()));
       std::vector<double> qk = start_q(st.params);
       solve(*costs[k], qk, options.start_iterations, summary);
       st.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
@@ -418,7 +424,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   }
   result.chosen_start = static_cast<int>(chosen);
   StretchResiduals* cost = costs[chosen].get();
-  progress.set_stage("in-plane");
+  progress.set_stage(stage);
   solve(*cost, q, options.max_iterations, summary);
 
   // Re-evaluate at the solution so the reported curves belong to the final parameters.

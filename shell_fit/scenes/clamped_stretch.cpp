@@ -1,6 +1,7 @@
 #include "shell_fit/scenes/clamped_stretch.hpp"
 
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -142,6 +143,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
     NewtonSummary s;
     if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, m_fixed_dofs, options);
     if (!s.converged()) {
+      out.newton_iterations += s.iterations;
       // Walk there from the last good state in load steps.
       trial = x;
       const double u0 = u_prev;
@@ -191,6 +193,8 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
 
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const double target = targets[i];
+    const auto target_start = std::chrono::steady_clock::now();
+    const int iterations_before = out.newton_iterations;
     if (!(target > -1.0)) {
       out.message = "stretch target " + std::to_string(target) + " is not > -1";
       return out;
@@ -271,6 +275,9 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
     sample.measured_stretch = measured(x, nullptr);
     const Eigen::VectorXd g = total_gradient(terms, x);
     for (int v : m_right) sample.force += g[k_dim * v];
+    for (int d = 0; d < n; ++d)
+      if (m_free_index[static_cast<std::size_t>(d)] >= 0) sample.residual = std::max(sample.residual, std::abs(g[d]));
+    sample.newton_iterations = out.newton_iterations - iterations_before;
     Eigen::VectorXd dwidth(n);
     const double w = distance(m_wid_a, m_wid_b, x, &dwidth);
     sample.compression = 1.0 - w / m_rest_wid;
@@ -337,6 +344,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       sample.dcompression_dp = dc.head<6>() + dc[6] * du_dp;
       if (dm[6] > 0.0) slope = dm[6];
     }
+    sample.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - target_start).count();
     out.samples.push_back(sample);
     if (warm) {
       warm->targets[i] = target;

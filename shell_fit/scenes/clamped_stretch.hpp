@@ -58,6 +58,9 @@ struct ClampedStretchSample {
   double clamp_stretch = 0.0;     // u
   double force = 0.0;             // [N]
   double compression = 0.0;
+  int newton_iterations = 0;      // spent on this target (warm start, secant, load steps)
+  double residual = 0.0;          // largest force on a free node at the equilibrium [N]
+  double seconds = 0.0;           // wall time of this target
   // d(force)/dp and d(compression)/dp at fixed measured stretch, p = (kxx kxy kyy kss kn1 kn2)
   Eigen::Matrix<double, 6, 1> dforce_dp = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> dcompression_dp = Eigen::Matrix<double, 6, 1>::Zero();

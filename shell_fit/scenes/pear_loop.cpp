@@ -287,6 +287,7 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
       solved = summary.converged();
     }
     sample.converged = solved;
+    sample.residual = summary.gradient_norm;
     if (!solved) sample.message = "equilibrium at clamp distance " + std::to_string(d) + " m failed: " + summary.brief();
 
     const Shape shape = measure(x);

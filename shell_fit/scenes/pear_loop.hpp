@@ -93,6 +93,7 @@ struct PearLoopSample {
   bool converged = false;       // false: h, p, r belong to the last valid Newton iterate
   std::string message;          // why the equilibrium failed, when it did
   int newton_iterations = 0;
+  double residual = 0.0;        // largest force on a free node at the returned state [N]
   double seconds = 0.0;
   // Largest |κ| = |θ|/H over the edges across the strip (the loop's curvature, including the
   // kink where the strip leaves a clamp) [1/m]: the curvature range the uniform bending
