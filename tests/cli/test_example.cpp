@@ -2,6 +2,10 @@
 // files byte for byte, and it validates and describes cleanly.
 #include <nlohmann/json.hpp>
 
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "tests/test_support.hpp"
 
 namespace yarnfit::testing {
@@ -45,6 +49,39 @@ TEST(Example, ValidatesAndDescribesItsTile) {
     EXPECT_GE(t["force_N"][1].get<double>(), 2.0) << dir;
     EXPECT_LE(t["force_N"][1].get<double>(), 10.0) << dir;
   }
+}
+
+// The curves are the shell model's own at the parameters under ground_truth (so a fit on the
+// example can recover them): `shell sim` with those parameters and the example's swatch
+// reproduces the last point of a stretch curve and of a pear-loop curve to the digits written.
+TEST(Example, CurvesAreTheShellModelAtItsGroundTruth) {
+  ScratchDir dir("example");
+  const auto shown = run_cli("db show " + quoted(k_example) + " --json");
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  const auto truth = nlohmann::json::parse(shown.out)["ground_truth"];
+  for (const char* k : {"kxx", "kxy", "kyy", "kss", "kn1", "kn2", "ktheta_weft", "ktheta_bias", "ktheta_warp"})
+    ASSERT_TRUE(truth.contains(k)) << k;
+  write_file(dir / "truth.json", nlohmann::json{{"params", truth}}.dump());
+  const auto last_row = [](const std::string& csv) {
+    const std::string line = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+    std::vector<double> row;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
+    return row;
+  };
+  const auto stretch = last_row(read_file(k_example / "stretch_warp.csv"));  // read at gauge marks
+  auto r = run_cli("shell sim --params " + quoted(dir / "truth.json") + " --direction warp --stretch " +
+                   std::to_string(stretch[0]) + " --gauge-length-mm 80 --gauge-width-mm 40");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out)["samples"][0];
+  EXPECT_NEAR(j["force_N"].get<double>(), stretch[1], 1e-5 * stretch[1]);
+  EXPECT_NEAR(j["compression"].get<double>(), stretch[2], 1e-5 * stretch[2]);
+  const auto bend = last_row(read_file(k_example / "bend_weft.csv"));
+  r = run_cli("shell sim --scene pear --params " + quoted(dir / "truth.json") + " --direction weft --distance " +
+              std::to_string(bend[0]));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(r.out)["samples"][0];
+  EXPECT_NEAR(j["aspect_ratio"].get<double>(), bend[1], 1e-5 * bend[1]);
 }
 
 }  // namespace
