@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # README command 1: install dependencies, build in Release, run the main job on the bundled
-# example (today: validate and describe the example fabric and its tile).
+# example: validate and describe the example fabric and its tile, then fit the thin-shell
+# model to its stretch and pear-loop tests (`yarnfit shell fit`, about a minute on 2 cores)
+# and compare the fit with the parameters the example was simulated from.
 set -euo pipefail
 # OpenMP threads spin while waiting by default; on a 2-core machine with other work running
 # that slows the parallel energy loops 3-10x. Passive waiting gives the core back.
@@ -9,6 +11,35 @@ cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 cmake -S . -B build-release -G Ninja -DCMAKE_BUILD_TYPE=Release -DYARNFIT_BUILD_TESTS=OFF -DYARNFIT_BUILD_BENCH=OFF
 cmake --build build-release --parallel 2
-./build-release/cli/yarnfit db validate examples/fabrics
-./build-release/cli/yarnfit db list examples/fabrics
-./build-release/cli/yarnfit db show examples/fabrics/stockinette_demo
+yarnfit=./build-release/cli/yarnfit
+example=examples/fabrics/stockinette_demo
+out=build-release/example_output/stockinette_demo
+$yarnfit db validate examples/fabrics
+$yarnfit db list examples/fabrics
+$yarnfit db show "$example"
+
+echo
+echo "== yarnfit shell fit $example --out $out"
+$yarnfit shell fit "$example" --out "$out"
+$yarnfit db show "$example" --json > "$out/fabric.json"
+python3 - "$out" <<'EOF'
+import json, os, sys
+out = sys.argv[1]
+fit = json.load(open(os.path.join(out, "shell_fit.json")))
+truth = json.load(open(os.path.join(out, "fabric.json")))["ground_truth"]
+e = fit["errors"]
+print(f"\nfitted errors (mean |error| / mean |measured|): stretch force {e['stretch_force_pct']:.2f} %, "
+      f"compression {e['compression_pct']:.2f} %, pear-loop aspect ratio {e['bending_pct']:.2f} %")
+print(f"{'parameter':<12} {'fitted':>12} {'ground truth':>13} {'difference':>11}")
+for k in ["kxx", "kxy", "kyy", "kss", "kn1", "kn2", "ktheta_weft", "ktheta_bias", "ktheta_warp"]:
+    v, t = fit["params"].get(k), truth.get(k)
+    diff = f"{100 * (v / t - 1):+.1f} %" if v is not None and t else ""
+    print(f"{k:<12} {v if v is not None else float('nan'):>12.4g} {t:>13.4g} {diff:>11}")
+weak = fit.get("weakly_identified") or []
+if weak:
+    print("weakly identified (the tests pin them only loosely): " + ", ".join(weak))
+print(f"fit time {fit['timing_s']:.1f} s")
+print(f"results: {out}/shell_fit.json (parameters, errors, simulated vs measured curves)")
+print(f"         {out}/uniform_targets.csv (uniform stress-strain targets for the yarn fit)")
+EOF
+rm -f "$out/fabric.json"
