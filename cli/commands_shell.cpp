@@ -113,6 +113,11 @@ int run_shell_fit(const ShellArgs& a) {
               << " after " << fit.iterations << " iterations, " << db::format_g(fit.seconds, 3) << " s\n"
               << "  force error " << db::format_g(fit.stretch_force_pct, 3) << " %, compression error "
               << (fit.compression_measured ? db::format_g(fit.compression_pct, 3) + " %" : std::string("not measured")) << "\n";
+    if (fit.starts.size() > 1 && fit.chosen_start >= 0)
+      std::cout << "  best of " << fit.starts.size() << " data-based starts: "
+                << fit.starts[static_cast<std::size_t>(fit.chosen_start)].name
+                << (fit.restarts > 0 ? ", " + std::to_string(fit.restarts) + " restart(s) after stalls" : std::string())
+                << "\n";
     for (const auto& d : fit.directions)
       std::cout << "  " << db::to_string(d.direction) << ": fitted up to s = " << db::format_g(d.max_stretch, 3)
                 << " of " << db::format_g(d.measured_max_stretch, 3) << " measured\n";
