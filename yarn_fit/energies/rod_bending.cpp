@@ -29,32 +29,35 @@ namespace {
 constexpr double smoothing_delta = 1e-8;        // δ of κ = sqrt(|κb|² + δ²) − δ
 constexpr double fold_tolerance = 1.0 - 1e-12;  // a·b ≤ −(1 − 1e-12)|a||b|: folded back
 
+// The edges of a corner and the scalars its curvature depends on: p = |a||b|, q = a·b.
+struct Corner {
+  Vec3 a, b;
+  double la, lb, p, q;
+  Corner(const Vec3& x0, const Vec3& x1, const Vec3& x2)
+      : a(x1 - x0), b(x2 - x1), la(a.norm()), lb(b.norm()), p(la * lb), q(a.dot(b)) {}
+  // Zero-length edges and folded-back corners have no curvature.
+  [[nodiscard]] bool degenerate() const {
+    return !(la > 0.0) || !(lb > 0.0) || !(q > -fold_tolerance * p);
+  }
+};
+
 }  // namespace
 
 double corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
-  const Vec3 a = x1 - x0;
-  const Vec3 b = x2 - x1;
-  const double la = a.norm();
-  const double lb = b.norm();
-  const double p = la * lb;
-  const double q = a.dot(b);
-  if (!(la > 0.0) || !(lb > 0.0) || !(q > -fold_tolerance * p)) {
-    return std::numeric_limits<double>::infinity();
-  }
-  return 2.0 * a.cross(b).norm() / (p + q);
+  const Corner k(x0, x1, x2);
+  if (k.degenerate()) return std::numeric_limits<double>::infinity();
+  return 2.0 * k.a.cross(k.b).norm() / (k.p + k.q);
 }
 
 double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
                        double rest_length_b, double rest_curvature, const RodBending& model,
                        Vec<9>* gradient, Mat<9>* hessian, bool project_psd) {
   constexpr double inf = std::numeric_limits<double>::infinity();
-  const Vec3 a = x1 - x0;
-  const Vec3 b = x2 - x1;
-  const double la = a.norm();
-  const double lb = b.norm();
-  const double p = la * lb;
-  const double q = a.dot(b);
-  if (!(la > 0.0) || !(lb > 0.0) || !(q > -fold_tolerance * p)) return inf;
+  const Corner corner(x0, x1, x2);
+  if (corner.degenerate()) return inf;
+  const Vec3& a = corner.a;
+  const Vec3& b = corner.b;
+  const double la = corner.la, lb = corner.lb, p = corner.p, q = corner.q;
   const double rest_sum = rest_length_a + rest_length_b;
   if (!(rest_sum > 0.0)) return inf;
 
