@@ -100,15 +100,16 @@ Eigen::Vector3d YarnSystem::position(const Eigen::VectorXd& g, int v, const Cell
 void YarnSystem::build_constraints() {
   const int n = m_tile.vertex_count();
   int pinned = 0;
-  for (const auto& y : m_tile.yarns) pinned += y.pinned_vertex >= 0 ? 1 : 0;
+  for (const auto& y : m_tile.yarns) pinned += static_cast<int>(y.pinned_vertices.size());
   m_constraints = Eigen::MatrixXd::Zero(3 + pinned, 3 * n);
   for (int v = 0; v < n; ++v)
     for (int k = 0; k < 3; ++k) m_constraints(k, 3 * v + k) = 1.0;
   int row = 3;
   for (const auto& y : m_tile.yarns) {
-    if (y.pinned_vertex < 0) continue;
-    m_constraints.block<1, 3>(row, 3 * y.pinned_vertex) = y.slide_direction.transpose();
-    ++row;
+    for (const int p : y.pinned_vertices) {
+      m_constraints.block<1, 3>(row, 3 * p) = y.slide_direction.transpose();
+      ++row;
+    }
   }
 }
 

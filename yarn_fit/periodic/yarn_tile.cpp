@@ -119,7 +119,7 @@ YarnTile make_yarn_tile(const db::PeriodicTile& source) {
     yarn.net_offset = cell;
     yarn.input_rest_length = arc;
     if (cell.i != 0 || cell.j != 0) {
-      yarn.pinned_vertex = out.edges[static_cast<std::size_t>(start)].v0;
+      yarn.pinned_vertices = {out.edges[static_cast<std::size_t>(start)].v0};
       const Eigen::Vector2d dir = out.lattice * Eigen::Vector2d(cell.i, cell.j);
       yarn.slide_direction = Eigen::Vector3d(dir.x(), dir.y(), 0.0).normalized();
     }
@@ -197,6 +197,25 @@ db::PeriodicTile repeat_tile(const db::PeriodicTile& tile, int nx, int ny) {
         out.edges.push_back(ne);
         out.rest_lengths.push_back(t.rest_lengths[static_cast<std::size_t>(e)]);
         out.reference_directors.push_back(t.reference_directors[static_cast<std::size_t>(e)]);
+      }
+    }
+  }
+  return out;
+}
+
+YarnTile repeat_yarn_tile(const db::PeriodicTile& tile, int nx, int ny) {
+  const YarnTile base = make_yarn_tile(tile);
+  YarnTile out = make_yarn_tile(repeat_tile(tile, nx, ny));
+  // Vertex v of copy (a, b) has index v + nv·(a + nx·b) (repeat_tile's numbering).
+  const int nv = base.vertex_count();
+  std::vector<int> yarn_of(static_cast<std::size_t>(out.vertex_count()), -1);
+  for (const auto& e : out.edges) yarn_of[static_cast<std::size_t>(e.v0)] = e.yarn;
+  for (auto& y : out.yarns) y.pinned_vertices.clear();
+  for (const auto& y : base.yarns) {
+    for (const int p : y.pinned_vertices) {
+      for (int copy = 0; copy < nx * ny; ++copy) {
+        const int v = p + nv * copy;
+        out.yarns[static_cast<std::size_t>(yarn_of[static_cast<std::size_t>(v)])].pinned_vertices.push_back(v);
       }
     }
   }

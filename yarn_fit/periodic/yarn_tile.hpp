@@ -57,7 +57,11 @@ struct TileYarn {
   std::vector<int> edges;       // in order along the yarn
   Cell net_offset;              // cells advanced after one trip (0, 0 for a closed loop)
   double input_rest_length = 0.0;
-  int pinned_vertex = -1;       // vertex held against parametric sliding; -1 for closed loops
+  // Vertices held on their boundary plane against parametric sliding (g · slide_direction
+  // = 0): one per period of yarn, none for closed loops. The pin carries a reaction force
+  // wherever the discrete rest lengths make sliding cost energy, so a tile repeated n times
+  // must pin every copy of the original pins to describe the same material (repeat_yarn_tile).
+  std::vector<int> pinned_vertices;
   Eigen::Vector3d slide_direction = Eigen::Vector3d::Zero();  // unit, along lattice·net_offset
 };
 
@@ -96,5 +100,10 @@ YarnTile rotated_tile(const YarnTile& tile, double angle);
 // The pyp tile repeated nx × ny times (a larger but equivalent tile, for checks that the
 // homogenised response does not depend on the tile chosen). Throws for nx, ny < 1.
 db::PeriodicTile repeat_tile(const db::PeriodicTile& tile, int nx, int ny);
+
+// make_yarn_tile(repeat_tile(tile, nx, ny)) with every copy of the original tile's pins
+// pinned, so that the repeated tile has exactly the periodic states of the original among
+// its own (same energy per area, same equilibria).
+YarnTile repeat_yarn_tile(const db::PeriodicTile& tile, int nx, int ny);
 
 }  // namespace yarnfit::yarn
