@@ -6,7 +6,7 @@
 
 namespace yarnfit::yarn {
 
-int reset_rest_shape(YarnSystem& system, const Eigen::VectorXd& g, double max_length_change) {
+int reset_rest_shape(YarnSystem& system, const Eigen::VectorXd& g, double max_length_change, double omega) {
   YarnTile& tile = system.mutable_tile();
   int clamped = 0;
   for (std::size_t e = 0; e < tile.edges.size(); ++e) {
@@ -15,13 +15,15 @@ int reset_rest_shape(YarnSystem& system, const Eigen::VectorXd& g, double max_le
     const double input = tile.input_rest_lengths[e];
     const double lo = (1.0 - max_length_change) * input;
     const double hi = (1.0 + max_length_change) * input;
-    edge.rest_length = std::clamp(length, lo, hi);
-    if (length <= lo || length >= hi) ++clamped;
+    const double target = edge.rest_length + omega * (length - edge.rest_length);
+    edge.rest_length = std::clamp(target, lo, hi);
+    if (target <= lo || target >= hi) ++clamped;
   }
   for (auto& c : tile.corners) {
-    c.rest_curvature = corner_curvature(system.position(g, c.v_prev, c.cell_prev),
+    const double k = corner_curvature(system.position(g, c.v_prev, c.cell_prev),
                                         system.position(g, c.vertex, {0, 0}),
                                         system.position(g, c.v_next, c.cell_next));
+    c.rest_curvature = std::max(0.0, c.rest_curvature + omega * (k - c.rest_curvature));
   }
   return clamped;
 }
@@ -37,7 +39,7 @@ RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const R
     out.last_solve = solve_equilibrium(system, g, solve);
     out.newton_iterations += out.last_solve.iterations;
     out.rounds = round + 1;
-    out.clamped_edges = reset_rest_shape(system, g, options.max_length_change);
+    out.clamped_edges = reset_rest_shape(system, g, options.max_length_change, options.over_relaxation);
   }
   // The last reset changed the rest shape: relax once more, to convergence, and measure.
   out.last_solve = solve_equilibrium(system, g, options.solve);
