@@ -1,5 +1,14 @@
 #pragma once
-// swarm — a generic particle swarm optimiser (SPEC §1 step 4): bounds, log-space
-// parameters, inertia decaying 0.9 → 0.1, repulsion between particles, particles evaluated
-// in parallel. It knows nothing of fabrics. No code yet.
-namespace yarnfit::swarm {}
+// swarm — the optimisers of the yarn-level calibration (SPEC §1 step 4, thesis 6.5.3), with
+// no knowledge of fabrics:
+//   * run_swarm / resume_swarm (particle_swarm.hpp): global search by a particle swarm,
+//     parallel, reproducible, checkpointed after every iteration;
+//   * run_cobyla (cobyla.hpp): local refinement of the swarm's best by NLopt's COBYLA,
+//     returning the best point seen within bounds and budgets;
+// over a ParameterSpace (parameter_space.hpp) of bounded, optionally log-space parameters.
+// Failed evaluations are counted and penalised, never fatal (objective.hpp).
+
+#include "swarm/cobyla.hpp"
+#include "swarm/objective.hpp"
+#include "swarm/parameter_space.hpp"
+#include "swarm/particle_swarm.hpp"
