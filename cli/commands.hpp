@@ -15,5 +15,7 @@ void add_shell_commands(CLI::App& app, int& exit_code);
 // `shell sim`, registered on the `shell` subcommand by add_shell_commands.
 void add_shell_sim_command(CLI::App& shell, int& exit_code);
 void add_synth_commands(CLI::App& app, int& exit_code);
+// `yarn sim` and `yarn curve`: periodic yarn tile simulations (SPEC §5).
+void add_yarn_commands(CLI::App& app, int& exit_code);
 
 }  // namespace yarnfit::cli

@@ -9,7 +9,8 @@ namespace {
 TEST(Cli, HelpOnEveryCommandExitsZero) {
   for (const char* cmd : {"--help", "db --help", "db validate --help", "db list --help",
                           "db show --help", "db import-tensile --help", "shell --help", "shell fit --help",
-                          "shell sim --help", "synth --help", "synth shell --help"}) {
+                          "shell sim --help", "synth --help", "synth shell --help", "yarn --help",
+                          "yarn sim --help", "yarn curve --help"}) {
     const auto r = run_cli(cmd);
     EXPECT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
     EXPECT_NE(r.out.find("Usage") == std::string::npos ? r.out.find("usage") : 0, std::string::npos) << r.out;

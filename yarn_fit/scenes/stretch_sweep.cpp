@@ -1,0 +1,43 @@
+#include "yarn_fit/scenes/stretch_sweep.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace yarnfit::yarn {
+
+std::vector<double> even_stretches(double max_stretch, int points) {
+  if (points < 2) throw std::invalid_argument("a stretch curve needs at least 2 points");
+  if (!std::isfinite(max_stretch) || max_stretch <= -1.0)
+    throw std::invalid_argument("the largest stretch must be finite and greater than -1");
+  std::vector<double> s(static_cast<std::size_t>(points));
+  for (int i = 0; i < points; ++i) s[static_cast<std::size_t>(i)] = max_stretch * i / (points - 1);
+  return s;
+}
+
+StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<double>& stretches,
+                           Eigen::VectorXd& g, const StretchSweepOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  StretchSweep out;
+  out.points.reserve(stretches.size());
+  if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());
+  CompressionOptions compression = options.compression;
+  for (std::size_t i = 0; i < stretches.size(); ++i) {
+    const CoarseDeformation chi{stretches[i], compression.initial_guess, 0.0, angle};
+    Sample s = solve_free_compression(system, chi, g, compression, options.solve);
+    if (s.ok) {
+      compression.initial_guess = s.chi.compression;
+    } else {
+      ++out.failures;
+      s.chi.stretch = stretches[i];
+    }
+    out.newton_iterations += s.newton_iterations;
+    out.solves += s.solves;
+    out.points.push_back(s);
+    if (options.on_point) options.on_point(i, out.points.back(), g);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace yarnfit::yarn
