@@ -235,8 +235,11 @@ TEST_F(StockinetteSystem, RestShapeLeavesLittleCoarseStressAndKeepsRestLengthsIn
     const double ratio = sys.tile().edges[e].rest_length / sys.tile().input_rest_lengths[e];
     ASSERT_LE(std::abs(ratio - 1.0), 0.2 + 1e-12) << "edge " << e;
   }
-  std::printf("rest shape: %d rounds, %d Newton iterations, %.2f s, rest lengths moved up to %.1f %%\n",
-              r.rounds, r.newton_iterations, r.seconds, 100 * r.max_length_change);
+  std::printf("rest shape: %d rounds, %d Newton iterations, %.2f s, rest lengths moved up to %.1f %%;\n"
+              "  period stretch E = (%.2f %%, %.2f %%, %.2f %%) took P = (%.3g, %.3g) to (%.3g, %.3g) N/m\n",
+              r.rounds, r.newton_iterations, r.seconds, 100 * r.max_length_change,
+              100 * r.period_stretch(0, 0), 100 * r.period_stretch(1, 1), 100 * r.period_stretch(0, 1),
+              r.stress_before_period(0, 0), r.stress_before_period(1, 1), r.rest_stress(0, 0), r.rest_stress(1, 1));
   for (const double angle : {weft_angle(), bias_angle(), warp_angle()}) {
     Eigen::VectorXd g = rest;
     const Sample at10 = simulate_sample(sys, {0.1, 0.0, 0.0, angle}, g);

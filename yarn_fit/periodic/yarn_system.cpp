@@ -60,6 +60,15 @@ void YarnSystem::set_params(const YarnParams& params) {
   m_contacts_valid = false;
 }
 
+void YarnSystem::set_tile(YarnTile tile) {
+  if (tile.vertex_count() != m_tile.vertex_count() || tile.edge_count() != m_tile.edge_count())
+    throw std::invalid_argument("yarn system: set_tile needs the same vertices and edges");
+  m_tile = std::move(tile);
+  prepare_placements(m_map, m_placements);
+  build_constraints();
+  m_contacts_valid = false;
+}
+
 void YarnSystem::set_deformation(const CoarseDeformation& chi) {
   m_map = CoarseMap(chi);
   prepare_placements(m_map, m_placements);

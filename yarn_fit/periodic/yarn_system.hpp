@@ -62,7 +62,11 @@ class YarnSystem {
   void set_params(const YarnParams& params);
   [[nodiscard]] const YarnParams& params() const { return m_params; }
   [[nodiscard]] const YarnTile& tile() const { return m_tile; }
+  // Rest lengths and curvatures may be edited here; geometry changes go through set_tile.
   [[nodiscard]] YarnTile& mutable_tile() { return m_tile; }
+  // Replaces the tile (same vertices and elements, e.g. a transformed_tile): placements,
+  // constraints and contacts follow.
+  void set_tile(YarnTile tile);
   [[nodiscard]] const Effects& effects() const { return m_effects; }
 
   [[nodiscard]] int dof_count() const { return 3 * m_tile.vertex_count(); }

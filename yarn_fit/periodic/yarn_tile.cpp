@@ -146,14 +146,21 @@ YarnTile make_yarn_tile(const db::PeriodicTile& source) {
   return out;
 }
 
-YarnTile rotated_tile(const YarnTile& tile, double angle) {
+YarnTile transformed_tile(const YarnTile& tile, const Eigen::Matrix2d& map) {
   YarnTile out = tile;
+  out.lattice = map * tile.lattice;
+  for (auto& x : out.reference) x.head<2>() = map * x.head<2>();
+  for (auto& y : out.yarns) {
+    const Eigen::Vector2d dir = map * y.slide_direction.head<2>();
+    y.slide_direction = Eigen::Vector3d(dir.x(), dir.y(), 0.0).normalized();
+  }
+  return out;
+}
+
+YarnTile rotated_tile(const YarnTile& tile, double angle) {
   Eigen::Matrix2d rot;
   rot << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-  out.lattice = rot * tile.lattice;
-  for (auto& x : out.reference) x.head<2>() = rot * x.head<2>();
-  for (auto& y : out.yarns) y.slide_direction.head<2>() = rot * y.slide_direction.head<2>();
-  return out;
+  return transformed_tile(tile, rot);
 }
 
 db::PeriodicTile repeat_tile(const db::PeriodicTile& tile, int nx, int ny) {

@@ -97,6 +97,10 @@ YarnTile make_yarn_tile(const db::PeriodicTile& tile);
 // lattice turn together (used for invariance checks and arbitrary material frames).
 YarnTile rotated_tile(const YarnTile& tile, double angle);
 
+// The tile's reference positions and lattice mapped by an in-plane linear map (rest lengths
+// and curvatures unchanged): used to rotate a tile and to adjust its period at rest.
+YarnTile transformed_tile(const YarnTile& tile, const Eigen::Matrix2d& map);
+
 // The pyp tile repeated nx × ny times (a larger but equivalent tile, for checks that the
 // homogenised response does not depend on the tile chosen). Throws for nx, ny < 1.
 db::PeriodicTile repeat_tile(const db::PeriodicTile& tile, int nx, int ny);
