@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   add_db_commands(app, exit_code);
   add_shell_commands(app, exit_code);
   add_synth_commands(app, exit_code);
+  add_synth_yarn_command(*app.get_subcommand("synth"), exit_code);
   add_yarn_commands(app, exit_code);
   try {
     app.parse(argc, argv);

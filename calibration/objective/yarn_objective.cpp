@@ -1,0 +1,219 @@
+#include "calibration/objective/yarn_objective.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "fabrics_db/text_util.hpp"
+#include "yarn_fit/periodic/yarn_system.hpp"
+
+namespace yarnfit::calibration {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
+
+// Target second Piola-Kirchhoff stress at s.
+double target_pk2(const std::vector<shell::UniaxialPoint>& pts, double s) {
+  return pk2(interpolate_target(pts, s, &shell::UniaxialPoint::stress), s);
+}
+
+DirectionScale comfort_scale(const DirectionTargets& t, const ObjectiveOptions& o) {
+  DirectionScale sc;
+  sc.direction = t.direction;
+  const auto& p = t.stretch;
+  // End of the comfort range: first crossing of the line force, linear in between.
+  sc.comfort_stretch = p.back().stretch;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    if (p[i].stress >= o.comfort_line_force) {
+      const double a = p[i - 1].stress, b = p[i].stress;
+      const double f = b > a ? std::clamp((o.comfort_line_force - a) / (b - a), 0.0, 1.0) : 1.0;
+      sc.comfort_stretch = p[i - 1].stretch + f * (p[i].stretch - p[i - 1].stretch);
+      break;
+    }
+  }
+  sc.comfort_value = target_pk2(p, sc.comfort_stretch);
+  sc.stress_norm = sc.comfort_value;
+  double cmax = std::abs(interpolate_target(p, sc.comfort_stretch, &shell::UniaxialPoint::compression));
+  for (const auto& q : p) {
+    if (q.stretch > sc.comfort_stretch) break;
+    sc.stress_norm = std::max(sc.stress_norm, pk2(q.stress, q.stretch));
+    cmax = std::max(cmax, std::abs(q.compression));
+  }
+  sc.compression_norm = std::max(cmax, o.min_compression_norm);
+  return sc;
+}
+
+}  // namespace
+
+double interpolate_target(const std::vector<shell::UniaxialPoint>& points, double s,
+                          double shell::UniaxialPoint::*field) {
+  if (points.empty()) return 0.0;
+  if (s <= points.front().stretch) return points.front().*field;
+  if (s >= points.back().stretch) return points.back().*field;
+  const auto hi = std::upper_bound(points.begin(), points.end(), s,
+                                   [](double x, const shell::UniaxialPoint& q) { return x < q.stretch; });
+  const auto lo = hi - 1;
+  const double f = (s - lo->stretch) / (hi->stretch - lo->stretch);
+  return (1.0 - f) * ((*lo).*field) + f * ((*hi).*field);
+}
+
+std::string ObjectiveOptions::invalid_reason() const {
+  if (samples < 2) return "samples must be at least 2 (got " + std::to_string(samples) + ")";
+  if (!(comfort_line_force > 0.0)) return "comfort_line_force must be positive";
+  if (!(min_compression_norm > 0.0)) return "min_compression_norm must be positive";
+  return {};
+}
+
+YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<DirectionTargets> targets, ObjectiveOptions options)
+    : m_tile(std::move(tile)), m_options(std::move(options)) {
+  if (const auto why = m_options.invalid_reason(); !why.empty()) throw std::invalid_argument("objective: " + why);
+  for (auto& t : targets) {
+    if (t.stretch.size() < 2) continue;
+    DirectionScale sc = comfort_scale(t, m_options);
+    if (!(sc.stress_norm > 0.0)) {
+      throw std::invalid_argument("objective: " + std::string(db::to_string(t.direction)) +
+                                  " targets have no positive stress in the comfort range");
+    }
+    m_scales.push_back(sc);
+    m_targets.push_back(std::move(t));
+  }
+  if (m_targets.empty()) throw std::invalid_argument("objective: no direction has stretch targets");
+}
+
+void YarnObjective::set_samples(int samples) {
+  if (samples < 2) throw std::invalid_argument("objective: samples must be at least 2");
+  m_options.samples = samples;
+}
+
+double YarnObjective::operator()(const yarn::YarnParams& params) const {
+  const ObjectiveResult r = evaluate(params);
+  if (!r.ok) throw std::runtime_error(r.message);
+  return r.value;
+}
+
+ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
+  const auto start = Clock::now();
+  ObjectiveResult out;
+  out.value = std::numeric_limits<double>::infinity();
+  auto finish = [&](std::string message) {
+    out.ok = message.empty();
+    out.message = std::move(message);
+    if (!out.ok) out.value = std::numeric_limits<double>::infinity();
+    out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return out;
+  };
+  if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
+
+  yarn::YarnSystem system(m_tile, params);  // a copy of the tile per evaluation
+  Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(system.dof_count());
+  if (m_options.rest_shape) {
+    out.rest = relax_rest_shape(system, g_rest, m_options.rest);
+    out.newton_iterations += out.rest.newton_iterations;
+    if (!out.rest.converged) {
+      return finish("rest-shape heuristic did not converge: " + out.rest.last_solve.message);
+    }
+  }
+
+  const int n = m_options.samples;
+  double total = 0.0;
+  for (std::size_t d = 0; d < m_targets.size(); ++d) {
+    const DirectionTargets& t = m_targets[d];
+    const std::string dname(db::to_string(t.direction));
+    DirectionError e;
+    e.scale = m_scales[d];
+    const double angle = db::pull_angle(t.direction);
+    const double s0 = t.stretch.front().stretch, s1 = t.stretch.back().stretch;
+
+    auto count = [&](const yarn::Sample& smp) {
+      e.solves += smp.solves;
+      out.newton_iterations += smp.newton_iterations;
+    };
+    // Zero-orthogonal-stress compression at both ends of the range (6.5.3).
+    Eigen::VectorXd g = g_rest;
+    yarn::CompressionOptions comp = m_options.compression;
+    yarn::CoarseDeformation chi;
+    chi.angle = angle;
+    chi.stretch = s0;
+    const yarn::Sample first = yarn::solve_free_compression(system, chi, g, comp, m_options.solve);
+    count(first);
+    if (!first.ok) return finish(dname + ": free compression at s = " + db::format_g(s0) + " failed: " + first.message);
+    const Eigen::VectorXd g_first = g;
+    comp.initial_guess = first.chi.compression;
+    chi.stretch = s1;
+    const yarn::Sample last = yarn::solve_free_compression(system, chi, g, comp, m_options.solve);
+    count(last);
+    if (!last.ok) return finish(dname + ": free compression at s = " + db::format_g(s1) + " failed: " + last.message);
+    const double c0 = first.chi.compression, c1 = last.chi.compression;
+
+    // Samples from s0 up, each warm-started from the previous one's state; the ends reuse
+    // the free-compression solves (they are exactly those points).
+    g = g_first;
+    double sum_sq = 0.0, abs_comfort = 0.0, abs_full = 0.0, abs_c = 0.0;
+    int n_comfort = 0;
+    for (int i = 0; i < n; ++i) {
+      const double f = static_cast<double>(i) / (n - 1);
+      const double s = s0 + f * (s1 - s0);
+      double c = (1.0 - f) * c0 + f * c1;
+      double sigma = 0.0;
+      if (i == 0) {
+        sigma = first.stress_s;
+      } else if (i == n - 1) {
+        sigma = last.stress_s;
+      } else if (m_options.free_compression_every_sample) {
+        yarn::CoarseDeformation x = chi;
+        x.stretch = s;
+        yarn::CompressionOptions cs = m_options.compression;
+        cs.initial_guess = c;
+        const yarn::Sample smp = yarn::solve_free_compression(system, x, g, cs, m_options.solve);
+        count(smp);
+        if (!smp.ok) return finish(dname + ": free compression at s = " + db::format_g(s) + " failed: " + smp.message);
+        sigma = smp.stress_s;
+        c = smp.chi.compression;
+      } else {
+        yarn::CoarseDeformation x = chi;
+        x.stretch = s;
+        x.compression = c;
+        const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
+        count(smp);
+        if (!smp.ok) return finish(dname + ": sample at s = " + db::format_g(s) + " failed: " + smp.message);
+        sigma = smp.stress_s;
+      }
+      const double s_sim = pk2(sigma, s);
+      const double s_tgt = target_pk2(t.stretch, s);
+      const double c_tgt = interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression);
+      const double w = e.scale.comfort_value / std::max(e.scale.comfort_value, s_tgt);
+      const double ds = (s_sim - s_tgt) / e.scale.stress_norm;
+      const double dc = (c - c_tgt) / e.scale.compression_norm;
+      sum_sq += w * (ds * ds + dc * dc);
+      abs_full += std::abs(ds);
+      abs_c += std::abs(dc);
+      if (s <= e.scale.comfort_stretch + 1e-12) {
+        abs_comfort += std::abs(ds);
+        ++n_comfort;
+      }
+      e.stretch.push_back(s);
+      e.stress_sim.push_back(s_sim);
+      e.stress_target.push_back(s_tgt);
+      e.compression_sim.push_back(c);
+      e.compression_target.push_back(c_tgt);
+      e.weight.push_back(w);
+    }
+    e.value = sum_sq / n;
+    e.stress_full_pct = 100.0 * abs_full / n;
+    e.stress_comfort_pct = n_comfort > 0 ? 100.0 * abs_comfort / n_comfort : e.stress_full_pct;
+    e.compression_pct = 100.0 * abs_c / n;
+    total += e.value;
+    out.solves += e.solves;
+    out.directions.push_back(std::move(e));
+  }
+  out.value = total;
+  return finish({});
+}
+
+}  // namespace yarnfit::calibration

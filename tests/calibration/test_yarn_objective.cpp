@@ -1,0 +1,103 @@
+// Objective (6.11): ~0 at the true parameters on targets synthesised from them, clearly > 0
+// for a perturbed ks1. Short weft range (0-20 %, 4 points) to stay fast.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+
+#include "calibration/objective/yarn_objective.hpp"
+#include "calibration/synth/synthetic_yarn_fabric.hpp"
+#include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/test_support.hpp"
+#include "yarn_fit/periodic/yarn_tile.hpp"
+
+namespace yarnfit::calibration {
+namespace {
+
+TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
+  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
+  YARNFIT_REQUIRE_SHARED(pattern);
+  db::Problems problems;
+  const auto tile = db::read_pyp(pattern, problems);
+  ASSERT_TRUE(tile) << problems.to_string();
+  const yarn::YarnParams truth = yarn::default_params({400.0, db::compute_tile_facts(*tile).r_est});
+
+  SyntheticYarnOptions so;
+  so.directions = {db::Direction::weft};
+  so.max_stretch = 0.2;
+  so.points = 4;
+  const SyntheticYarnResult synth = simulate_yarn_targets(*tile, truth, so);
+  ASSERT_EQ(synth.targets.size(), 1u);
+  std::cout << "[ synth    ] 4 weft targets in " << synth.seconds << " s\n";
+
+  // Thesis objective (c* at both ends, linear in between) and the exact variant (c* solved
+  // at every sample): the exact one vanishes at the truth; the thesis one carries only the
+  // interpolation error of c*.
+  ObjectiveOptions oo;
+  oo.samples = 4;
+  const YarnObjective objective(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  oo.free_compression_every_sample = true;
+  const YarnObjective exact(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  ASSERT_EQ(objective.scales().size(), 1u);
+  EXPECT_GT(objective.scales()[0].stress_norm, 0.0);
+
+  auto report = [](const char* tag, const ObjectiveResult& r) {
+    ASSERT_TRUE(r.ok) << r.message;
+    const auto& d = r.directions.at(0);
+    std::cout << "[ " << tag << " ] g = " << r.value << ", stress comfort " << d.stress_comfort_pct << " %, full "
+              << d.stress_full_pct << " %, compression " << d.compression_pct << " %, " << r.seconds << " s, "
+              << r.solves << " solves (rest " << r.rest.seconds << " s)\n";
+    for (std::size_t i = 0; i < d.stretch.size(); ++i) {
+      std::cout << "      s " << d.stretch[i] << "  S " << d.stress_sim[i] << " / " << d.stress_target[i] << "  c "
+                << d.compression_sim[i] << " / " << d.compression_target[i] << "\n";
+    }
+  };
+  const ObjectiveResult exact_truth = exact.evaluate(truth);
+  report("exact, truth      ", exact_truth);
+  EXPECT_LT(exact_truth.value, 1e-3);
+  EXPECT_LT(exact_truth.directions.at(0).stress_full_pct, 0.1);
+
+  const ObjectiveResult at_truth = objective.evaluate(truth);
+  report("thesis, truth     ", at_truth);
+  EXPECT_LT(at_truth.value, 1e-2);
+  EXPECT_LT(at_truth.directions.at(0).stress_full_pct, 1.0);
+
+  yarn::YarnParams perturbed = truth;
+  perturbed.ks1 *= 2.0;
+  const ObjectiveResult off = objective.evaluate(perturbed);
+  report("thesis, ks1 x 2   ", off);
+  const ObjectiveResult exact_off = exact.evaluate(perturbed);
+  report("exact, ks1 x 2    ", exact_off);
+  EXPECT_GT(off.value, 5.0 * at_truth.value);
+  EXPECT_GT(off.directions.at(0).stress_comfort_pct, 5.0);
+  EXPECT_GT(exact_off.value, 100.0 * std::max(exact_truth.value, 1e-6));
+  EXPECT_DOUBLE_EQ(objective(truth), at_truth.value);  // deterministic
+
+  // Invalid parameters fail clearly rather than throwing.
+  yarn::YarnParams bad = truth;
+  bad.ks1 = -1.0;
+  const ObjectiveResult failed = objective.evaluate(bad);
+  EXPECT_FALSE(failed.ok);
+  EXPECT_TRUE(std::isinf(failed.value));
+  EXPECT_NE(failed.message.find("ks1"), std::string::npos) << failed.message;
+  EXPECT_THROW((void)objective(bad), std::runtime_error);
+}
+
+TEST(YarnObjective, RejectsTargetsWithoutStretch) {
+  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
+  YARNFIT_REQUIRE_SHARED(pattern);
+  db::Problems problems;
+  const auto tile = db::read_pyp(pattern, problems);
+  ASSERT_TRUE(tile);
+  std::vector<DirectionTargets> none(1);
+  EXPECT_THROW(YarnObjective(yarn::make_yarn_tile(*tile), none), std::invalid_argument);
+  ObjectiveOptions o;
+  o.samples = 1;
+  std::vector<DirectionTargets> t(1);
+  t[0].stretch = {{0.0, 0.0, 0.0, true}, {0.1, 0.02, 5.0, true}};
+  EXPECT_THROW(YarnObjective(yarn::make_yarn_tile(*tile), t, o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace yarnfit::calibration
