@@ -227,7 +227,7 @@ double YarnSystem::energy_gradient(const Eigen::VectorXd& g, Eigen::VectorXd& gr
   return std::isfinite(total) ? total : kInf;
 }
 
-void YarnSystem::hessian(const Eigen::VectorXd& g, Triplets& out, bool project_psd) const {
+void YarnSystem::hessian(const Eigen::VectorXd& g, Triplets& out, bool project_psd, bool lower_only) const {
   const bool curved = deformation().curved();
   for_each_element(g, [&](int, const auto& ev, auto&& element) {
     constexpr int nv = static_cast<int>(std::tuple_size_v<decltype(ev.vertex)>);
@@ -247,8 +247,11 @@ void YarnSystem::hessian(const Eigen::VectorXd& g, Triplets& out, bool project_p
       const int vi = ev.vertex[static_cast<std::size_t>(i)];
       for (int j = 0; j < nv; ++j) {
         const int vj = ev.vertex[static_cast<std::size_t>(j)];
+        if (lower_only && vi < vj) continue;
         for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) out.emplace_back(3 * vi + a, 3 * vj + b, local(3 * i + a, 3 * j + b));
+          for (int b = 0; b < 3; ++b)
+            if (!lower_only || 3 * vi + a >= 3 * vj + b)
+              out.emplace_back(3 * vi + a, 3 * vj + b, local(3 * i + a, 3 * j + b));
       }
     }
   });

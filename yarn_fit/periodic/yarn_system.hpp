@@ -79,7 +79,9 @@ class YarnSystem {
   // Energy and its gradient with respect to g (overwritten).
   double energy_gradient(const Eigen::VectorXd& g, Eigen::VectorXd& gradient) const;
   // Hessian with respect to g as triplets (appended), per-element PSD-projected on request.
-  void hessian(const Eigen::VectorXd& g, Triplets& out, bool project_psd) const;
+  // With `lower_only`, only entries with row ≥ column (what a lower LDLT reads: half the
+  // assembly and sorting work).
+  void hessian(const Eigen::VectorXd& g, Triplets& out, bool project_psd, bool lower_only = false) const;
 
   // Per-term energies [J] for reports: stretch, bending, contact.
   struct Breakdown {

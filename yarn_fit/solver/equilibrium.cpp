@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 namespace yarnfit::yarn {
 
@@ -26,6 +27,15 @@ std::string format_force(double f) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.3g N", f);
   return buffer;
+}
+}  // namespace
+
+namespace {
+bool same_pattern(const Eigen::SparseMatrix<double>& m, const std::vector<int>& outer, const std::vector<int>& inner) {
+  return m.isCompressed() && outer.size() == static_cast<std::size_t>(m.outerSize() + 1) &&
+         inner.size() == static_cast<std::size_t>(m.nonZeros()) &&
+         std::equal(outer.begin(), outer.end(), m.outerIndexPtr()) &&
+         std::equal(inner.begin(), inner.end(), m.innerIndexPtr());
 }
 }  // namespace
 
@@ -86,7 +96,8 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
   result.residual = result.initial_residual;
   result.energy = energy;
 
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;  // reads the lower triangle
+  std::vector<int> analysed_outer, analysed_inner;                 // pattern of the last analysis
   YarnSystem::Triplets triplets;
   Eigen::SparseMatrix<double> k(n, n);
   constexpr double kShiftMin = 1e-10, kShiftMax = 1e2, kExactShiftMax = 1e-3;
@@ -108,7 +119,7 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
     const auto assemble = [&] {
       triplets.clear();
       for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, 0.0);  // keeps the pattern fixed
-      system.hessian(g, triplets, projected);
+      system.hessian(g, triplets, projected, /*lower_only=*/true);
       k.resize(n, n);
       k.setFromTriplets(triplets.begin(), triplets.end());
     };
@@ -120,9 +131,13 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
       Eigen::SparseMatrix<double> kk = k;
       const double alpha = shift_scale * mean_diag;
       for (int i = 0; i < n; ++i) kk.coeffRef(i, i) += alpha;
-      // The pattern follows the active contacts, which change between iterations; the
-      // symbolic analysis is cheap next to the numeric factorisation at these sizes.
-      solver.analyzePattern(kk);
+      // The pattern follows the active contacts; the symbolic analysis (ordering and
+      // elimination tree) is redone only when it changed.
+      if (!same_pattern(kk, analysed_outer, analysed_inner)) {
+        solver.analyzePattern(kk);
+        analysed_outer.assign(kk.outerIndexPtr(), kk.outerIndexPtr() + kk.outerSize() + 1);
+        analysed_inner.assign(kk.innerIndexPtr(), kk.innerIndexPtr() + kk.nonZeros());
+      }
       solver.factorize(kk);
       const bool definite = solver.info() == Eigen::Success && solver.vectorD().minCoeff() > 0.0;
       // An indefinite exact Hessian is first shifted (Levenberg): the shifted step still
