@@ -124,12 +124,19 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
       result.message = "compression search: " + sa.message;
     } else {
       double fa = sa.stress_c;
-      double step = 0.05 * (fa < 0.0 ? 1.0 : -1.0);  // Ψ decreases towards larger c when f < 0
+      double step = co.initial_step * (fa < 0.0 ? 1.0 : -1.0);  // Ψ decreases towards larger c when f < 0
       double b = a;
       double fb = fa;
       Sample sb = sa;
       bool bracketed = false;
       while (search.evaluations < co.max_evaluations) {
+        // After two evaluations on one side, aim the next one past the secant's root
+        // (by 10 % of the way, so that it brackets) instead of doubling blindly: warm curve
+        // points start close to c*, where the secant is accurate.
+        if (b != a && fb != fa) {
+          const double to_root = -fb * (b - a) / (fb - fa);
+          if (to_root * step > 0.0) step = std::clamp(1.1 * to_root, 0.25 * step, 4.0 * step);
+        }
         const double next = std::clamp(b + step, co.lower, co.upper);
         if (next == b) break;
         a = b;
@@ -154,8 +161,12 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
       } else {
         int side = 0;
         Sample sc = sb;
+        double previous = b;
         while (search.evaluations < co.max_evaluations && std::abs(b - a) > co.tolerance) {
           const double c = (a * fb - b * fa) / (fb - fa);
+          // Regula falsi keeps one end of the bracket: stop once the iterate itself settles.
+          if (std::abs(c - previous) <= 0.1 * co.tolerance) break;
+          previous = c;
           sc = search.at(c);
           if (!sc.ok) break;
           const double fc = sc.stress_c;

@@ -46,6 +46,7 @@ struct CompressionOptions {
   double lower = -0.3;      // search interval for c
   double upper = 0.9;
   double tolerance = 1e-5;  // on c
+  double initial_step = 0.05;  // first bracketing step in c (a warm curve point may use less)
   int max_evaluations = 60;
   double initial_guess = 0.0;
 };

@@ -1,5 +1,6 @@
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -26,6 +27,11 @@ StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<d
     const CoarseDeformation chi{stretches[i], compression.initial_guess, 0.0, angle};
     Sample s = solve_free_compression(system, chi, g, compression, options.solve);
     if (s.ok) {
+      // The next c* is near this one: bracket it with about twice the last change.
+      if (i > 0 && out.points.back().ok)
+        compression.initial_step = std::clamp(
+            2.0 * std::abs(s.chi.compression - out.points.back().chi.compression), 0.002,
+            options.compression.initial_step);
       compression.initial_guess = s.chi.compression;
     } else {
       ++out.failures;
