@@ -1,0 +1,224 @@
+#include "calibration/fit/yarn_calibration.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace yarnfit::calibration {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+std::string YarnFitSettings::invalid_reason() const {
+  if (swarm && particles < 2) return "particles: must be at least 2";
+  if (swarm && iterations < 1) return "iterations: must be at least 1";
+  if (swarm_samples < 2) return "swarm_samples: must be at least 2";
+  if (local_samples < 2) return "local_samples: must be at least 2";
+  if (local_evaluations < 0) return "local_evaluations: must not be negative";
+  if (!swarm && local_evaluations < 1) return "local_evaluations: without the swarm the local step needs at least 1";
+  if (!(local_initial_step > 0.0 && local_initial_step <= 1.0)) return "local_initial_step: must be in (0, 1]";
+  if (threads < 0) return "threads: must not be negative";
+  if (resume && checkpoint.empty()) return "resume: needs a checkpoint file";
+  return {};
+}
+
+swarm::ParameterSpace yarn_parameter_space(const yarn::ParameterScales& scales, bool linear_stretch) {
+  std::vector<swarm::Parameter> p;
+  if (!linear_stretch) {
+    p.push_back({"ks1", 1e-3 * scales.ks2, scales.ks2, true});
+    p.push_back({"eps_s", 0.0, 0.15, false});
+  }
+  p.push_back({"kb", 1e-3 * scales.kb_base(), 10.0 * scales.kb_base(), true});
+  p.push_back({"R1", 0.5 * scales.r_est, 1.5 * scales.r_est, false});
+  p.push_back({"kc1", 1e-2 * scales.kc_base(), 1e2 * scales.kc_base(), true});
+  return swarm::ParameterSpace(std::move(p));
+}
+
+yarn::YarnParams params_from_point(const Eigen::VectorXd& x, const yarn::ParameterScales& scales,
+                                   bool linear_stretch) {
+  yarn::YarnParams p;
+  int i = 0;
+  if (linear_stretch) {
+    p.ks1 = scales.ks2;
+    p.eps_s = 0.0;
+  } else {
+    p.ks1 = x[i++];
+    p.eps_s = x[i++];
+  }
+  p.kb = x[i++];
+  p.r1 = x[i++];
+  p.kc1 = x[i++];
+  p.ks2 = scales.ks2;
+  p.kc2 = scales.kc2();
+  p.r2 = scales.r2();
+  return p;
+}
+
+Eigen::VectorXd point_from_params(const yarn::YarnParams& p, bool linear_stretch) {
+  if (linear_stretch) return Eigen::Vector3d(p.kb, p.r1, p.kc1);
+  Eigen::VectorXd x(5);
+  x << p.ks1, p.eps_s, p.kb, p.r1, p.kc1;
+  return x;
+}
+
+YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<DirectionTargets>& targets,
+                              const yarn::ParameterScales& scales, const YarnFitSettings& settings) {
+  if (const std::string why = settings.invalid_reason(); !why.empty())
+    throw std::invalid_argument("yarn fit settings: " + why);
+  const auto start = Clock::now();
+  YarnFitResult out;
+  const swarm::ParameterSpace space = yarn_parameter_space(scales, settings.linear_stretch);
+
+  ObjectiveOptions options = settings.objective;
+  options.rest_shape = settings.rest_shape;
+  options.samples = settings.swarm_samples;
+  YarnObjective objective(tile, targets, options);
+  const auto value_at = [&](const YarnObjective& f, const Eigen::VectorXd& x) {
+    return f(params_from_point(x, scales, settings.linear_stretch));
+  };
+
+  // Global step: the swarm on the few-sample objective.
+  Eigen::VectorXd best = space.from_unit(Eigen::VectorXd::Constant(space.dimension(), 0.5));
+  double best_value = std::numeric_limits<double>::infinity();
+  if (settings.swarm) {
+    swarm::SwarmSettings ss;
+    ss.particles = settings.particles;
+    ss.iterations = settings.iterations;
+    ss.seed = settings.seed;
+    swarm::SwarmRunOptions run;
+    run.threads = settings.threads;
+    run.checkpoint = settings.checkpoint;
+    if (settings.progress) {
+      run.progress = [&](const swarm::SwarmProgress& p) {
+        settings.progress("swarm", p.record.iteration, p.iterations, p.record.best_value, seconds_since(start));
+        return true;
+      };
+    }
+    const swarm::Objective f = [&](const Eigen::VectorXd& x) { return value_at(objective, x); };
+    out.swarm = settings.resume ? swarm::resume_swarm(settings.checkpoint, space, f, run)
+                                : swarm::run_swarm(space, f, ss, run);
+    out.evaluations += out.swarm.evaluations;
+    out.seconds_swarm = out.swarm.seconds;
+    if (!out.swarm.usable()) {
+      out.message = "every swarm candidate failed: " +
+                    (out.swarm.failures.empty() ? std::string("no reason kept") : out.swarm.failures.front().message);
+      out.seconds_total = seconds_since(start);
+      return out;
+    }
+    best = out.swarm.best_point;
+    best_value = out.swarm.best_value;
+  }
+
+  // Local step: COBYLA on the many-sample objective, from the swarm's best.
+  YarnObjective fine(tile, targets, [&] {
+    ObjectiveOptions o = options;
+    o.samples = settings.local_samples;
+    return o;
+  }());
+  if (settings.local_evaluations > 0) {
+    swarm::CobylaSettings cs;
+    cs.max_evaluations = settings.local_evaluations;
+    cs.initial_step = settings.local_initial_step;
+    cs.x_tolerance = 1e-4;
+    int step = 0;
+    const swarm::Objective f = [&](const Eigen::VectorXd& x) {
+      const double v = value_at(fine, x);
+      ++step;
+      if (v < best_value || !std::isfinite(best_value)) best_value = std::min(best_value, v);
+      if (settings.progress) settings.progress("local", step, settings.local_evaluations, best_value, seconds_since(start));
+      return v;
+    };
+    if (settings.threads > 0) omp_set_num_threads(settings.threads);
+    out.local = swarm::run_cobyla(space, f, best, cs);
+    out.evaluations += out.local.evaluations;
+    out.seconds_local = out.local.seconds;
+    if (out.local.usable()) best = out.local.best_point;
+  }
+
+  out.params = params_from_point(best, scales, settings.linear_stretch);
+  out.final = fine.evaluate(out.params);
+  ++out.evaluations;
+  const Eigen::VectorXd u = space.to_unit(best);
+  for (int i = 0; i < space.dimension(); ++i)
+    if (u[i] < 1e-3 || u[i] > 1.0 - 1e-3) out.on_bound.push_back(space.parameter(i).name);
+  out.ok = out.final.ok;
+  if (!out.ok) out.message = "the best parameters failed on re-evaluation: " + out.final.message;
+  out.seconds_total = seconds_since(start);
+  return out;
+}
+
+namespace {
+
+// Mean over directions (each direction's figure is already a mean over its samples).
+double mean_over_directions(const ObjectiveResult& r, double DirectionError::*field) {
+  if (r.directions.empty()) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (const auto& d : r.directions) sum += d.*field;
+  return sum / static_cast<double>(r.directions.size());
+}
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+}  // namespace
+
+nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) {
+  nlohmann::json j;
+  j["ok"] = r.ok;
+  if (!r.message.empty()) j["message"] = r.message;
+  j["params"] = yarn::to_json(r.params);
+  j["errors"] = {
+      {"stress_comfort_pct", number_or_null(mean_over_directions(r.final, &DirectionError::stress_comfort_pct))},
+      {"stress_full_pct", number_or_null(mean_over_directions(r.final, &DirectionError::stress_full_pct))},
+      {"compression_pct", number_or_null(mean_over_directions(r.final, &DirectionError::compression_pct))},
+      {"bending_pct", nullptr},  // the objective (6.11) fits stretch targets only
+  };
+  nlohmann::json dirs = nlohmann::json::object();
+  for (const auto& d : r.final.directions) {
+    dirs[std::string(db::to_string(d.scale.direction))] = {
+        {"stress_comfort_pct", d.stress_comfort_pct},
+        {"stress_full_pct", d.stress_full_pct},
+        {"compression_pct", d.compression_pct},
+        {"comfort_stretch", d.scale.comfort_stretch},
+        {"objective", d.value},
+    };
+  }
+  j["errors_by_direction"] = dirs;
+  j["objective"] = number_or_null(r.final.value);
+  j["on_bound"] = r.on_bound;
+  j["evaluations"] = r.evaluations;
+  j["timing_s"] = {{"swarm", r.seconds_swarm}, {"local", r.seconds_local}, {"total", r.seconds_total}};
+  j["settings"] = {
+      {"particles", settings.swarm ? settings.particles : 0},
+      {"iterations", settings.swarm ? settings.iterations : 0},
+      {"swarm_samples", settings.swarm_samples},
+      {"local_samples", settings.local_samples},
+      {"local_evaluations", settings.local_evaluations},
+      {"seed", settings.seed},
+      {"swarm", settings.swarm},
+      {"linear_stretch", settings.linear_stretch},
+      {"rest_shape", settings.rest_shape},
+  };
+  if (settings.swarm) {
+    nlohmann::json history = nlohmann::json::array();
+    for (const auto& h : r.swarm.history)
+      history.push_back({{"iteration", h.iteration}, {"best", number_or_null(h.best_value)}, {"failed", h.failed}});
+    j["swarm"] = {{"best", number_or_null(r.swarm.best_value)}, {"evaluations", r.swarm.evaluations},
+                  {"failed", r.swarm.failed}, {"history", history}};
+  }
+  j["local"] = {{"status", swarm::to_string(r.local.status)}, {"message", r.local.message},
+                {"best", number_or_null(r.local.best_value)}, {"evaluations", r.local.evaluations},
+                {"failed", r.local.failed}};
+  return j;
+}
+
+}  // namespace yarnfit::calibration
