@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -24,6 +25,8 @@ std::string YarnFitSettings::invalid_reason() const {
   if (swarm && iterations < 1) return "iterations: must be at least 1";
   if (swarm_samples < 2) return "swarm_samples: must be at least 2";
   if (local_samples < 2) return "local_samples: must be at least 2";
+  if (swarm_compression_nodes < 2) return "swarm_compression_nodes: must be at least 2";
+  if (local_compression_nodes < 2) return "local_compression_nodes: must be at least 2";
   if (local_evaluations < 0) return "local_evaluations: must not be negative";
   if (!swarm && local_evaluations < 1) return "local_evaluations: without the swarm the local step needs at least 1";
   if (!(local_initial_step > 0.0 && local_initial_step <= 1.0)) return "local_initial_step: must be in (0, 1]";
@@ -82,6 +85,7 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
   ObjectiveOptions options = settings.objective;
   options.rest_shape = settings.rest_shape;
   options.samples = settings.swarm_samples;
+  options.compression_nodes = std::min(settings.swarm_compression_nodes, settings.swarm_samples);
   YarnObjective objective(tile, targets, options);
   const auto value_at = [&](const YarnObjective& f, const Eigen::VectorXd& x) {
     return f(params_from_point(x, scales, settings.linear_stretch));
@@ -123,6 +127,7 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
   YarnObjective fine(tile, targets, [&] {
     ObjectiveOptions o = options;
     o.samples = settings.local_samples;
+    o.compression_nodes = std::min(settings.local_compression_nodes, settings.local_samples);
     return o;
   }());
   if (settings.local_evaluations > 0) {
@@ -203,6 +208,8 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"swarm_samples", settings.swarm_samples},
       {"local_samples", settings.local_samples},
       {"local_evaluations", settings.local_evaluations},
+      {"swarm_compression_nodes", settings.swarm_compression_nodes},
+      {"local_compression_nodes", settings.local_compression_nodes},
       {"seed", settings.seed},
       {"swarm", settings.swarm},
       {"linear_stretch", settings.linear_stretch},

@@ -9,8 +9,10 @@
 //  * stretches s_i: `samples` points evenly over the targets' stretch range [s_first, s_last]
 //    (7 in the swarm, 20 in the local step);
 //  * compression: the zero-orthogonal-stress c* is solved only at s_first and s_last and
-//    interpolated linearly in between (6.5.3); c_sim(s_i) is that interpolant (option:
-//    solved at every sample);
+//    interpolated linearly in between (6.5.3); c_sim(s_i) is that interpolant (options: more
+//    nodes, or solved at every sample). The samples are first marched from s_first at the
+//    compression the targets' shape suggests, and each c* search starts from the march's
+//    state at its stretch (a cold search from the rest state cost most of an evaluation);
 //  * stress: the second Piola-Kirchhoff stretch stress S = σ_s / (1 + s) (SPEC §3: "second
 //    Piola-Kirchhoff stress σ_s/(1+s)"). σ_s from the yarn model (readouts.hpp) and from
 //    shell_fit's targets is the first Piola-Kirchhoff uᵀ P u (force per reference width); with
@@ -47,9 +49,15 @@ struct ObjectiveOptions {
   // On the stockinette tile, weft 0–20 %, the interpolant over-estimates the interior c* by up
   // to 0.005 (5 % of the compression norm), which shifts the stress there by 0.6 %.
   bool free_compression_every_sample = false;
+  // Number of stretches (sample points, evenly spread, both ends included) where c* is
+  // solved; c is linear in s between them. 2 is the thesis's scheme. Ignored when
+  // free_compression_every_sample. The calibration's local step uses more (yarn_calibration).
+  int compression_nodes = 2;
   bool rest_shape = true;                  // run the heuristic per candidate (off: ablation)
   yarn::RestShapeOptions rest;
   yarn::CompressionOptions compression;
+  // Solver settings; a loose_tolerance of 0 becomes 1e-3 · (smallest comfort stress norm) ·
+  // (shorter period) when the objective is built.
   yarn::EquilibriumOptions solve;
   double comfort_line_force = 100.0 / 3.0;  // N/m: 2 N on a 6 cm swatch
   double min_compression_norm = 1e-3;
@@ -89,6 +97,7 @@ struct ObjectiveResult {
   std::vector<DirectionError> directions;
   yarn::RestShapeResult rest;
   int solves = 0;
+  int loose_solves = 0;  // solves accepted as converged_loosely (see ObjectiveOptions::solve)
   int newton_iterations = 0;
   double seconds = 0.0;
 };

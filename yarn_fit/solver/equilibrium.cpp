@@ -13,6 +13,7 @@ namespace yarnfit::yarn {
 const char* to_string(Termination t) {
   switch (t) {
     case Termination::converged: return "converged";
+    case Termination::converged_loosely: return "converged_loosely";
     case Termination::max_iterations: return "max_iterations";
     case Termination::line_search_failed: return "line_search_failed";
     case Termination::non_finite: return "non_finite";
@@ -65,7 +66,7 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
 
   const auto finish = [&](Termination reason, std::string message) {
     result.reason = reason;
-    result.converged = reason == Termination::converged;
+    result.converged = reason == Termination::converged || reason == Termination::converged_loosely;
     result.message = std::move(message);
     result.constraint_violation = (c * g).lpNorm<Eigen::Infinity>();
     result.min_contact_distance = system.min_contact_distance(g);
@@ -107,6 +108,10 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
   for (int it = 0; it < options.max_iterations; ++it) {
     result.iterations = it;
     if (result.residual <= result.tolerance) return finish(Termination::converged, "");
+    if (it >= options.loose_after && result.residual <= options.loose_tolerance)
+      return finish(Termination::converged_loosely,
+                    "stopped after " + std::to_string(it) + " iterations within the loose tolerance (residual " +
+                        format_force(result.residual) + ", loose tolerance " + format_force(options.loose_tolerance) + ")");
     if (options.time_limit_s > 0.0 && elapsed() > options.time_limit_s)
       return finish(Termination::time_limit, "time limit reached before convergence");
 
@@ -260,6 +265,7 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g,
   }
   result.iterations = options.max_iterations;
   if (result.residual <= result.tolerance) return finish(Termination::converged, "");
+
   return finish(Termination::max_iterations, "iteration limit reached (residual " +
                                                   format_force(result.residual) + ", tolerance " +
                                                   format_force(result.tolerance) + ")");
