@@ -1,0 +1,159 @@
+// Yarn-level calibration studies (issue 5, acceptance 2, 3 and 5), printed, not asserted:
+//   recovery   targets simulated from known parameters on the stockinette tile (../shared),
+//              fitted back: true vs fitted parameters, errors, time per stage
+//   ablations  the same targets fitted without the swarm, with linear stretch (ks1 = ks2,
+//              ε̄s = 0) and without the rest-shape heuristic (thesis Fig. 6.11, 6.16, 6.17)
+//   settings   error and time for three particles × iterations × samples settings
+// Usage: bench_calibration MODE [--particles N] [--iterations N] [--samples N]
+//                               [--local-evaluations N] [--threads T] [--shared DIR]
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "calibration/fit/yarn_calibration.hpp"
+#include "calibration/synth/synthetic_yarn_fabric.hpp"
+#include "fabrics_db/tile/periodic_tile.hpp"
+
+namespace {
+
+using namespace yarnfit;
+
+struct Problem {
+  db::PeriodicTile tile;
+  yarn::ParameterScales scales;
+  yarn::YarnParams truth;
+  std::vector<calibration::DirectionTargets> targets;
+};
+
+// Known parameters inside the bounds, away from the defaults the swarm is centred on.
+Problem make_problem(const std::string& shared) {
+  db::Problems problems;
+  const auto tile = db::read_pyp(shared + "/data/patterns/stockinette.pyp", problems);
+  if (!tile) throw std::runtime_error(problems.to_string());
+  Problem p;
+  p.tile = *tile;
+  p.scales = {400.0, db::compute_tile_facts(*tile).r_est};
+  p.truth = yarn::default_params(p.scales);
+  p.truth.ks1 = 0.05 * p.scales.ks2;
+  p.truth.eps_s = 0.06;
+  p.truth.kb = 0.2 * p.scales.kb_base();
+  p.truth.r1 = 0.9 * p.scales.r_est;
+  p.truth.kc1 = 2.0 * p.scales.kc_base();
+  calibration::SyntheticYarnOptions so;
+  so.max_stretch = 0.3;
+  so.points = 16;
+  const auto synth = calibration::simulate_yarn_targets(p.tile, p.truth, so);
+  p.targets = synth.targets;
+  std::printf("targets: stockinette, weft/bias/warp 0-30 %%, %d points each, simulated in %.1f s\n", so.points,
+              synth.seconds);
+  return p;
+}
+
+void print_fit(const char* label, const Problem& p, const calibration::YarnFitResult& r, bool compare) {
+  const auto& e = r.final;
+  double comfort = 0, full = 0, comp = 0;
+  for (const auto& d : e.directions) {
+    comfort += d.stress_comfort_pct;
+    full += d.stress_full_pct;
+    comp += d.compression_pct;
+  }
+  const double nd = e.directions.empty() ? 1.0 : static_cast<double>(e.directions.size());
+  std::printf("%-22s %s  stress comfort %6.2f %%  full %6.2f %%  compression %6.2f %%  g %.4g  "
+              "%d evaluations  swarm %.0f s  local %.0f s  total %.0f s\n",
+              label, r.ok ? "ok    " : "FAILED", comfort / nd, full / nd, comp / nd, e.value, r.evaluations,
+              r.seconds_swarm, r.seconds_local, r.seconds_total);
+  for (const auto& d : e.directions)
+    std::printf("    %-5s comfort %6.2f %%  full %6.2f %%  compression %6.2f %%\n",
+                std::string(db::to_string(d.scale.direction)).c_str(), d.stress_comfort_pct, d.stress_full_pct,
+                d.compression_pct);
+  if (!r.on_bound.empty()) {
+    std::printf("    on a bound:");
+    for (const auto& n : r.on_bound) std::printf(" %s", n.c_str());
+    std::printf("\n");
+  }
+  if (!compare) return;
+  const auto row = [](const char* name, double fitted, double truth) {
+    std::printf("    %-6s fitted %-12.5g true %-12.5g %+7.1f %%\n", name, fitted, truth, 100.0 * (fitted / truth - 1.0));
+  };
+  row("ks1", r.params.ks1, p.truth.ks1);
+  row("eps_s", r.params.eps_s, p.truth.eps_s);
+  row("kb", r.params.kb, p.truth.kb);
+  row("R1", r.params.r1, p.truth.r1);
+  row("kc1", r.params.kc1, p.truth.kc1);
+}
+
+calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s) {
+  s.progress = [](const std::string& stage, int step, int steps, double best, double seconds) {
+    std::fprintf(stderr, "\r  %s %d/%d  best %.4g  %.0f s      ", stage.c_str(), step, steps, best, seconds);
+  };
+  const auto r = calibration::fit_yarn_params(yarn::make_yarn_tile(p.tile), p.targets, p.scales, s);
+  std::fprintf(stderr, "\n");
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: bench_calibration recovery|ablations|settings [options]\n");
+    return 2;
+  }
+  const std::string mode = argv[1];
+  std::string shared = YARNFIT_SHARED_DIR;
+  calibration::YarnFitSettings base;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string key = argv[i];
+    const char* value = argv[i + 1];
+    if (key == "--particles") base.particles = std::atoi(value);
+    else if (key == "--iterations") base.iterations = std::atoi(value);
+    else if (key == "--samples") base.swarm_samples = std::atoi(value);
+    else if (key == "--local-evaluations") base.local_evaluations = std::atoi(value);
+    else if (key == "--threads") base.threads = std::atoi(value);
+    else if (key == "--shared") shared = value;
+    else {
+      std::fprintf(stderr, "bench_calibration: unknown option %s\n", key.c_str());
+      return 2;
+    }
+  }
+  try {
+    const Problem p = make_problem(shared);
+    if (mode == "recovery") {
+      std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), %d COBYLA evaluations\n",
+                  base.particles, base.iterations, base.swarm_samples, base.local_samples, base.local_evaluations);
+      print_fit("recovery", p, run(p, base), true);
+    } else if (mode == "ablations") {
+      print_fit("full method", p, run(p, base), true);
+      calibration::YarnFitSettings s = base;
+      s.swarm = false;
+      print_fit("no swarm", p, run(p, s), true);
+      s = base;
+      s.linear_stretch = true;
+      print_fit("linear stretch", p, run(p, s), true);
+      s = base;
+      s.rest_shape = false;
+      print_fit("no rest shape", p, run(p, s), true);
+    } else if (mode == "settings") {
+      struct Setting {
+        int particles, iterations, samples;
+      };
+      for (const Setting& st : {Setting{16, 4, 4}, Setting{32, 6, 5}, Setting{64, 10, 7}}) {
+        calibration::YarnFitSettings s = base;
+        s.particles = st.particles;
+        s.iterations = st.iterations;
+        s.swarm_samples = st.samples;
+        const std::string label =
+            std::to_string(st.particles) + "x" + std::to_string(st.iterations) + "x" + std::to_string(st.samples);
+        print_fit(label.c_str(), p, run(p, s), false);
+      }
+    } else {
+      std::fprintf(stderr, "bench_calibration: unknown mode %s\n", mode.c_str());
+      return 2;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_calibration: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
