@@ -225,6 +225,17 @@ void add_synth_commands(CLI::App& app, int& exit_code) {
   sh->callback([args, &exit_code] { exit_code = run_synth_shell(*args); });
 }
 
+int run_shell_fit_command(const std::string& fabric, const std::string& out, double mesh_mm, int threads,
+                          bool quiet) {
+  ShellArgs a;
+  a.fabric = fabric;
+  a.out = out;
+  a.mesh_mm = mesh_mm;
+  a.threads = threads;
+  a.quiet = quiet;
+  return run_shell_fit(a);
+}
+
 void add_shell_commands(CLI::App& app, int& exit_code) {
   auto* shell = app.add_subcommand("shell", "Thin-shell model: fit to a fabric's tests, simulate scenes");
   shell->require_subcommand(1);
