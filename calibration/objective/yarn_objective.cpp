@@ -1,5 +1,7 @@
 #include "calibration/objective/yarn_objective.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -120,30 +122,30 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
   };
   if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
 
-  yarn::YarnSystem system(m_tile, params);  // a copy of the tile per evaluation
-  Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(system.dof_count());
+  yarn::YarnSystem relaxed(m_tile, params);  // a copy of the tile per evaluation
+  Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(relaxed.dof_count());
   if (m_options.rest_shape) {
-    out.rest = relax_rest_shape(system, g_rest, m_options.rest);
+    out.rest = relax_rest_shape(relaxed, g_rest, m_options.rest);
     out.newton_iterations += out.rest.newton_iterations;
     if (!out.rest.converged) {
       return finish("rest-shape heuristic did not converge: " + out.rest.last_solve.message);
     }
   }
 
+  // One direction's term: its own copy of the relaxed system, so that directions can run
+  // in parallel. Returns why it failed, or an empty string.
   const int n = m_options.samples;
-  double total = 0.0;
-  for (std::size_t d = 0; d < m_targets.size(); ++d) {
+  const auto run_direction = [&](std::size_t d, yarn::YarnSystem& system, DirectionError& e, int& iterations,
+                                 int& loose) -> std::string {
     const DirectionTargets& t = m_targets[d];
     const std::string dname(db::to_string(t.direction));
-    DirectionError e;
-    e.scale = m_scales[d];
     const double angle = db::pull_angle(t.direction);
     const double s0 = t.stretch.front().stretch, s1 = t.stretch.back().stretch;
 
     auto count = [&](const yarn::Sample& smp) {
-      if (smp.last_solve.reason == yarn::Termination::converged_loosely) ++out.loose_solves;
+      if (smp.last_solve.reason == yarn::Termination::converged_loosely) ++loose;
       e.solves += smp.solves;
-      out.newton_iterations += smp.newton_iterations;
+      iterations += smp.newton_iterations;
     };
     // Zero-orthogonal-stress compression at both ends of the range (6.5.3). The far end is
     // reached by marching the sample stretches first, at the compression the targets'
@@ -157,7 +159,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
     chi.stretch = s0;
     const yarn::Sample first = yarn::solve_free_compression(system, chi, g, comp, m_options.solve);
     count(first);
-    if (!first.ok) return finish(dname + ": free compression at s = " + db::format_g(s0) + " failed: " + first.message);
+    if (!first.ok) return (dname + ": free compression at s = " + db::format_g(s0) + " failed: " + first.message);
     const double c0 = first.chi.compression;
     const auto stretch_at = [&](int i) { return s0 + (s1 - s0) * static_cast<double>(i) / (n - 1); };
     const double c_tgt0 = interpolate_target(t.stretch, s0, &shell::UniaxialPoint::compression);
@@ -170,7 +172,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
       x.compression = c0 + interpolate_target(t.stretch, x.stretch, &shell::UniaxialPoint::compression) - c_tgt0;
       const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
       count(smp);
-      if (!smp.ok) return finish(dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
+      if (!smp.ok) return (dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
       march[static_cast<std::size_t>(i)] = g;
       c_march[static_cast<std::size_t>(i)] = x.compression;
     }
@@ -192,7 +194,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
       yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
       count(smp);
       if (!smp.ok)
-        return finish(dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
+        return (dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
       node_sample.push_back(std::move(smp));
     }
 
@@ -219,7 +221,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
         x.compression = c;
         const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
         count(smp);
-        if (!smp.ok) return finish(dname + ": sample at s = " + db::format_g(s) + " failed: " + smp.message);
+        if (!smp.ok) return (dname + ": sample at s = " + db::format_g(s) + " failed: " + smp.message);
         sigma = smp.stress_s;
       }
       const double s_sim = pk2(sigma, s);
@@ -246,9 +248,32 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
     e.stress_full_pct = 100.0 * abs_full / n;
     e.stress_comfort_pct = n_comfort > 0 ? 100.0 * abs_comfort / n_comfort : e.stress_full_pct;
     e.compression_pct = 100.0 * abs_c / n;
-    total += e.value;
-    out.solves += e.solves;
-    out.directions.push_back(std::move(e));
+    return {};
+  };
+
+  // Directions in parallel when not already inside a parallel region (the swarm evaluates
+  // particles in parallel; COBYLA's local step is serial and would leave a core idle).
+  // Each direction's result does not depend on the others, so the value is the same
+  // whatever the number of threads.
+  const int nd = static_cast<int>(m_targets.size());
+  std::vector<DirectionError> errors(static_cast<std::size_t>(nd));
+  std::vector<std::string> failures(static_cast<std::size_t>(nd));
+  std::vector<int> iterations(static_cast<std::size_t>(nd), 0), loose(static_cast<std::size_t>(nd), 0);
+#pragma omp parallel for schedule(dynamic) if (nd > 1 && !omp_in_parallel())
+  for (int d = 0; d < nd; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    yarn::YarnSystem copy = relaxed;
+    errors[k].scale = m_scales[k];
+    failures[k] = run_direction(k, copy, errors[k], iterations[k], loose[k]);
+  }
+  double total = 0.0;
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    out.newton_iterations += iterations[k];
+    out.loose_solves += loose[k];
+    if (!failures[k].empty()) return finish(failures[k]);
+    total += errors[k].value;
+    out.solves += errors[k].solves;
+    out.directions.push_back(std::move(errors[k]));
   }
   out.value = total;
   return finish({});

@@ -1,6 +1,7 @@
 // Objective (6.11): ~0 at the true parameters on targets synthesised from them, clearly > 0
 // for a perturbed ks1. Short weft range (0-20 %, 4 points) to stay fast.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <chrono>
 #include <cmath>
@@ -82,6 +83,39 @@ TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
   EXPECT_TRUE(std::isinf(failed.value));
   EXPECT_NE(failed.message.find("ks1"), std::string::npos) << failed.message;
   EXPECT_THROW((void)objective(bad), std::runtime_error);
+}
+
+// Directions run in parallel outside the swarm: the value must not depend on the thread count.
+TEST(YarnObjective, SameValueWithOneAndTwoThreads) {
+  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
+  YARNFIT_REQUIRE_SHARED(pattern);
+  db::Problems problems;
+  const auto tile = db::read_pyp(pattern, problems);
+  ASSERT_TRUE(tile) << problems.to_string();
+  const yarn::ParameterScales scales{400.0, db::compute_tile_facts(*tile).r_est};
+  const yarn::YarnParams truth = yarn::default_params(scales);
+  SyntheticYarnOptions so;
+  so.directions = {db::Direction::weft, db::Direction::warp};
+  so.max_stretch = 0.15;
+  so.points = 3;
+  const SyntheticYarnResult synth = simulate_yarn_targets(*tile, truth, so);
+  ObjectiveOptions oo;
+  oo.samples = 3;
+  const YarnObjective objective(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  yarn::YarnParams p = truth;
+  p.ks1 *= 1.5;
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const ObjectiveResult one = objective.evaluate(p);
+  omp_set_num_threads(2);
+  const ObjectiveResult two = objective.evaluate(p);
+  omp_set_num_threads(threads);
+  ASSERT_TRUE(one.ok && two.ok) << one.message << two.message;
+  ASSERT_EQ(one.directions.size(), 2u);
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.newton_iterations, two.newton_iterations);
+  std::cout << "[ threads  ] g = " << one.value << ": " << one.seconds << " s on 1 thread, " << two.seconds
+            << " s on 2\n";
 }
 
 TEST(YarnObjective, RejectsTargetsWithoutStretch) {
