@@ -136,10 +136,13 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
     cs.initial_step = settings.local_initial_step;
     cs.x_tolerance = 1e-4;
     int step = 0;
+    // The local objective has more samples than the swarm's: its values are not comparable
+    // with the swarm's best, so the progress tracks its own.
+    best_value = std::numeric_limits<double>::infinity();
     const swarm::Objective f = [&](const Eigen::VectorXd& x) {
       const double v = value_at(fine, x);
       ++step;
-      if (v < best_value || !std::isfinite(best_value)) best_value = std::min(best_value, v);
+      best_value = std::min(best_value, v);
       if (settings.progress) settings.progress("local", step, settings.local_evaluations, best_value, seconds_since(start));
       return v;
     };
