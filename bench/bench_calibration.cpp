@@ -6,6 +6,8 @@
 //   settings   error and time for three particles × iterations × samples settings
 // Usage: bench_calibration MODE [--particles N] [--iterations N] [--samples N]
 //                               [--local-evaluations N] [--threads T] [--shared DIR]
+//                               [--settings K]   (settings mode: the first K rows of its table)
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -103,6 +105,7 @@ int main(int argc, char** argv) {
   const std::string mode = argv[1];
   std::string shared = YARNFIT_SHARED_DIR;
   calibration::YarnFitSettings base;
+  int setting_count = 3;  // `settings` mode: how many rows of the table to run
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     const char* value = argv[i + 1];
@@ -112,6 +115,7 @@ int main(int argc, char** argv) {
     else if (key == "--local-evaluations") base.local_evaluations = std::atoi(value);
     else if (key == "--threads") base.threads = std::atoi(value);
     else if (key == "--shared") shared = value;
+    else if (key == "--settings") setting_count = std::atoi(value);
     else {
       std::fprintf(stderr, "bench_calibration: unknown option %s\n", key.c_str());
       return 2;
@@ -138,7 +142,9 @@ int main(int argc, char** argv) {
       struct Setting {
         int particles, iterations, samples;
       };
-      for (const Setting& st : {Setting{16, 4, 4}, Setting{32, 6, 5}, Setting{64, 10, 7}}) {
+      const std::vector<Setting> table{{16, 4, 4}, {32, 6, 5}, {64, 10, 7}};
+      for (int row = 0; row < std::min<int>(setting_count, static_cast<int>(table.size())); ++row) {
+        const Setting& st = table[static_cast<std::size_t>(row)];
         calibration::YarnFitSettings s = base;
         s.particles = st.particles;
         s.iterations = st.iterations;
