@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # README command 1: install dependencies, build in Release, run the main job on the bundled
-# example: validate and describe the example fabric and its tile, then fit the thin-shell
-# model to its stretch and pear-loop tests (`yarnfit shell fit`, about a minute on 2 cores)
-# and compare the fit with the parameters the example was simulated from.
+# example: validate and describe the example fabric and its tile, then run the whole
+# pipeline (`yarnfit fit`: thin-shell fit to its stretch and pear-loop tests, uniform
+# targets, yarn-level fit with a small swarm so that it finishes in a few minutes on 2
+# cores) and compare the shell fit with the parameters the example was simulated from.
 set -euo pipefail
 # OpenMP threads spin while waiting by default; on a 2-core machine with other work running
 # that slows the parallel energy loops 3-10x. Passive waiting gives the core back.
@@ -19,8 +20,11 @@ $yarnfit db list examples/fabrics
 $yarnfit db show "$example"
 
 echo
-echo "== yarnfit shell fit $example --out $out"
-$yarnfit shell fit "$example" --out "$out"
+# A small swarm (8 particles x 3 iterations, 4 samples per direction) and a short local step
+# keep this a few minutes; the defaults (64 x 10, 7 and 20 samples) are for real calibrations.
+fit_settings=(--particles 8 --iterations 3 --samples 4 --local-samples 8 --local-evaluations 10)
+echo "== yarnfit fit $example --out $out ${fit_settings[*]}"
+$yarnfit fit "$example" --out "$out" "${fit_settings[@]}" --force
 $yarnfit db show "$example" --json > "$out/fabric.json"
 python3 - "$out" <<'EOF'
 import json, os, sys
@@ -41,5 +45,9 @@ if weak:
 print(f"fit time {fit['timing_s']:.1f} s")
 print(f"results: {out}/shell_fit.json (parameters, errors, simulated vs measured curves)")
 print(f"         {out}/uniform_targets.csv (uniform stress-strain targets for the yarn fit)")
+print(f"         {out}/yarn_fit.json, yarn_curves.csv (yarn parameters, errors, simulated vs targets)")
+print(f"         {out}/summary.txt (both stages, shown below)")
 EOF
+echo
+cat "$out/summary.txt"
 rm -f "$out/fabric.json"
