@@ -20,9 +20,10 @@ $yarnfit db list examples/fabrics
 $yarnfit db show "$example"
 
 echo
-# A small swarm (8 particles x 3 iterations, 4 samples per direction) and a short local step
-# keep this a few minutes; the defaults (64 x 10, 7 and 20 samples) are for real calibrations.
-fit_settings=(--particles 8 --iterations 3 --samples 4 --local-samples 8 --local-evaluations 10)
+# A small swarm (16 particles x 6 iterations, 5 samples per direction) and a short local step
+# keep the fit under a minute (yarn stage ~20 s on 2 cores); the defaults (64 x 10, 7 and 20
+# samples, 60 local evaluations) are for real calibrations.
+fit_settings=(--particles 16 --iterations 6 --samples 5 --local-samples 12 --local-evaluations 40)
 echo "== yarnfit fit $example --out $out ${fit_settings[*]}"
 $yarnfit fit "$example" --out "$out" "${fit_settings[@]}" --force
 $yarnfit db show "$example" --json > "$out/fabric.json"
