@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "shell_fit/core/energy_term.hpp"
+#include "tests/fd_sweep.hpp"
 
 namespace yarnfit::shell::testing {
 
@@ -69,32 +70,13 @@ inline DerivativeCheckResult expect_derivatives_match(const EnergyTerm& term,
 
   // --- value vs gradient
   const double g_norm = std::max(g.lpNorm<Eigen::Infinity>(), options.floor);
-  Eigen::Index worst_g = 0;
-  double worst_g_fd = 0.0;
-  for (const double rel : options.relative_steps) {
-    const double h = rel * options.length_scale;
-    double err = 0.0;
-    Eigen::Index worst = 0;
-    double worst_fd = 0.0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      Eigen::VectorXd xp = x, xm = x;
-      xp(i) += h;
-      xm(i) -= h;
-      const double fd = (term.value(xp) - term.value(xm)) / (2.0 * h);
-      const double e = std::abs(fd - g(i)) / g_norm;
-      if (!(e <= err)) {  // also catches NaN
-        err = e;
-        worst = i;
-        worst_fd = fd;
-      }
-    }
-    if (err < result.gradient_error) {
-      result.gradient_error = err;
-      result.gradient_step = h;
-      worst_g = worst;
-      worst_g_fd = worst_fd;
-    }
-  }
+  const yarnfit::testing::GradientSweep gs = yarnfit::testing::sweep_gradient(
+      x, g, g_norm, options.relative_steps, options.length_scale,
+      [&](const Eigen::VectorXd& y) { return term.value(y); });
+  result.gradient_error = gs.error;
+  result.gradient_step = gs.step;
+  const auto worst_g = gs.worst;
+  const double worst_g_fd = gs.worst_fd;
   EXPECT_LT(result.gradient_error, options.tolerance)
       << term.name() << ": gradient vs FD of value, best step " << result.gradient_step
       << ", worst entry " << worst_g << ": analytic " << g(worst_g) << ", FD " << worst_g_fd
@@ -106,36 +88,13 @@ inline DerivativeCheckResult expect_derivatives_match(const EnergyTerm& term,
   const Eigen::MatrixXd H = dense_hessian(term, x, false);
   EXPECT_TRUE(H.allFinite()) << term.name() << ": non-finite Hessian";
   const double h_norm = std::max(H.lpNorm<Eigen::Infinity>(), options.floor);
-  Eigen::Index worst_r = 0, worst_c = 0;
-  double worst_h_fd = 0.0;
-  for (const double rel : options.relative_steps) {
-    const double h = rel * options.length_scale;
-    double err = 0.0;
-    Eigen::Index wr = 0, wc = 0;
-    double wfd = 0.0;
-    for (Eigen::Index j = 0; j < n; ++j) {
-      Eigen::VectorXd xp = x, xm = x;
-      xp(j) += h;
-      xm(j) -= h;
-      const Eigen::VectorXd column = (gradient_of(term, xp) - gradient_of(term, xm)) / (2.0 * h);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const double e = std::abs(column(i) - H(i, j)) / h_norm;
-        if (!(e <= err)) {
-          err = e;
-          wr = i;
-          wc = j;
-          wfd = column(i);
-        }
-      }
-    }
-    if (err < result.hessian_error) {
-      result.hessian_error = err;
-      result.hessian_step = h;
-      worst_r = wr;
-      worst_c = wc;
-      worst_h_fd = wfd;
-    }
-  }
+  const yarnfit::testing::HessianSweep hs = yarnfit::testing::sweep_hessian(
+      x, H, h_norm, options.relative_steps, options.length_scale,
+      [&](const Eigen::VectorXd& y) { return gradient_of(term, y); });
+  result.hessian_error = hs.error;
+  result.hessian_step = hs.step;
+  const auto worst_r = hs.row, worst_c = hs.col;
+  const double worst_h_fd = hs.worst_fd;
   EXPECT_LT(result.hessian_error, options.tolerance)
       << term.name() << ": Hessian vs FD of gradient, best step " << result.hessian_step
       << ", worst entry (" << worst_r << ", " << worst_c << "): analytic " << H(worst_r, worst_c)

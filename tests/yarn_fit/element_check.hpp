@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/fd_sweep.hpp"
 #include "yarn_fit/energies/yarn_elements.hpp"
 
 namespace yarnfit::yarn::testing {
@@ -59,32 +60,12 @@ ElementCheckResult expect_element_derivatives(F&& f, const Vec<N>& x, const std:
 
   // --- value vs gradient
   const double g_norm = std::max(g.template lpNorm<Eigen::Infinity>(), options.floor);
-  int worst_g = 0;
-  double worst_g_fd = 0.0;
-  for (const double rel : options.relative_steps) {
-    const double h = rel * options.length_scale;
-    double err = 0.0;
-    int worst = 0;
-    double worst_fd = 0.0;
-    for (int i = 0; i < N; ++i) {
-      Vec<N> xp = x, xm = x;
-      xp(i) += h;
-      xm(i) -= h;
-      const double fd = (value_at(xp) - value_at(xm)) / (2.0 * h);
-      const double e = std::abs(fd - g(i)) / g_norm;
-      if (!(e <= err)) {  // also catches NaN
-        err = e;
-        worst = i;
-        worst_fd = fd;
-      }
-    }
-    if (err < result.gradient_error) {
-      result.gradient_error = err;
-      result.gradient_step = h;
-      worst_g = worst;
-      worst_g_fd = worst_fd;
-    }
-  }
+  const yarnfit::testing::GradientSweep gs =
+      yarnfit::testing::sweep_gradient(x, g, g_norm, options.relative_steps, options.length_scale, value_at);
+  result.gradient_error = gs.error;
+  result.gradient_step = gs.step;
+  const auto worst_g = gs.worst;
+  const double worst_g_fd = gs.worst_fd;
   EXPECT_LT(result.gradient_error, options.tolerance)
       << what << ": gradient vs FD of value, best step " << result.gradient_step
       << ", worst entry " << worst_g << ": analytic " << g(worst_g) << ", FD " << worst_g_fd
@@ -92,36 +73,12 @@ ElementCheckResult expect_element_derivatives(F&& f, const Vec<N>& x, const std:
 
   // --- gradient vs Hessian
   const double h_norm = std::max(hess.template lpNorm<Eigen::Infinity>(), options.floor);
-  int worst_r = 0, worst_c = 0;
-  double worst_h_fd = 0.0;
-  for (const double rel : options.relative_steps) {
-    const double h = rel * options.length_scale;
-    double err = 0.0;
-    int wr = 0, wc = 0;
-    double wfd = 0.0;
-    for (int j = 0; j < N; ++j) {
-      Vec<N> xp = x, xm = x;
-      xp(j) += h;
-      xm(j) -= h;
-      const Vec<N> column = (gradient_at(xp) - gradient_at(xm)) / (2.0 * h);
-      for (int i = 0; i < N; ++i) {
-        const double e = std::abs(column(i) - hess(i, j)) / h_norm;
-        if (!(e <= err)) {
-          err = e;
-          wr = i;
-          wc = j;
-          wfd = column(i);
-        }
-      }
-    }
-    if (err < result.hessian_error) {
-      result.hessian_error = err;
-      result.hessian_step = h;
-      worst_r = wr;
-      worst_c = wc;
-      worst_h_fd = wfd;
-    }
-  }
+  const yarnfit::testing::HessianSweep hs =
+      yarnfit::testing::sweep_hessian(x, hess, h_norm, options.relative_steps, options.length_scale, gradient_at);
+  result.hessian_error = hs.error;
+  result.hessian_step = hs.step;
+  const auto worst_r = hs.row, worst_c = hs.col;
+  const double worst_h_fd = hs.worst_fd;
   EXPECT_LT(result.hessian_error, options.tolerance)
       << what << ": Hessian vs FD of gradient, best step " << result.hessian_step
       << ", worst entry (" << worst_r << ", " << worst_c << "): analytic " << hess(worst_r, worst_c)
