@@ -58,6 +58,7 @@ struct YarnFitArgs {
   int local_evaluations = defaults.local_evaluations;
   std::uint64_t seed = defaults.seed;
   int threads = 0;
+  int compression_nodes = defaults.local_compression_nodes;
   bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false;
   bool quiet = false, force = false;
   // `fit` only: the shell stage.
@@ -129,6 +130,8 @@ calibration::YarnFitSettings settings_from(const YarnFitArgs& a) {
   s.swarm = !a.no_swarm;
   s.linear_stretch = a.linear_stretch;
   s.rest_shape = !a.no_rest_shape;
+  s.swarm_compression_nodes = a.compression_nodes;
+  s.local_compression_nodes = a.compression_nodes;
   s.checkpoint = a.checkpoint;
   s.resume = a.resume;
   return s;
@@ -213,14 +216,22 @@ std::string yarn_summary(const calibration::YarnFitResult& r, const calibration:
                                     : std::string("no swarm; "))
       << "local step " << s.local_evaluations << " evaluations, " << s.local_samples << " samples per direction; seed "
       << s.seed << (s.linear_stretch ? "; linear stretch (ks1 = ks2, eps_s = 0)" : "")
-      << (s.rest_shape ? "" : "; no rest-shape heuristic") << "\n";
+      << (s.rest_shape ? "" : "; no rest-shape heuristic")
+      << (s.local_compression_nodes == 0
+              ? std::string("; c* at every sample")
+              : "; c* at " + std::to_string(s.local_compression_nodes) + " samples, linear between")
+      << "\n";
   out << "  errors (mean abs. error / largest comfort-range target):\n";
-  out << "    direction  stress comfort  stress full  compression\n";
+  out << "    direction  stress comfort  stress full  compression  bending (checked, not fitted)\n";
   for (const auto& d : r.final.directions) {
+    double bending = std::nan("");
+    for (const auto& b : r.bending.directions)
+      if (r.bending.ok && b.direction == d.scale.direction) bending = b.error_pct;
     out << "    " << std::left << std::setw(9) << db::to_string(d.scale.direction) << std::right << "  " << std::setw(14)
         << pct(d.stress_comfort_pct) << "  " << std::setw(11) << pct(d.stress_full_pct) << "  " << std::setw(11)
-        << pct(d.compression_pct) << "\n";
+        << pct(d.compression_pct) << "  " << std::setw(8) << pct(bending) << "\n";
   }
+  if (!r.bending.ok && !r.bending.message.empty()) out << "  bending check failed: " << r.bending.message << "\n";
   const json j = yarn::to_json(r.params);
   out << "  parameters (SI):\n";
   const auto space = calibration::yarn_parameter_space(scales, s.linear_stretch);
@@ -488,6 +499,11 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
   cmd.add_option("--seed", a.seed, "Swarm seed (same seed, same result whatever --threads)")->capture_default_str();
   cmd.add_option("--threads", a.threads, "OpenMP threads evaluating particles (0: OpenMP's default)")
       ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  cmd.add_option("--compression-nodes", a.compression_nodes,
+                 "Where the zero-orthogonal-stress compression is solved: 0 at every stretch sample; N >= 2 at N "
+                 "samples with linear interpolation between them (2: the thesis's both ends)")
+      ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   cmd.add_flag("--no-swarm", a.no_swarm, "COBYLA alone from the middle of the bounds (ablation, Fig. 6.17)");
   cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");

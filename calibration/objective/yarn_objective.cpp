@@ -70,6 +70,8 @@ std::string ObjectiveOptions::invalid_reason() const {
   if (compression_nodes < 2) return "compression_nodes must be at least 2 (got " + std::to_string(compression_nodes) + ")";
   if (!(comfort_line_force > 0.0)) return "comfort_line_force must be positive";
   if (!(min_compression_norm > 0.0)) return "min_compression_norm must be positive";
+  if (!(compression_stress_fraction >= 0.0 && compression_stress_fraction < 0.1))
+    return "compression_stress_fraction must be in [0, 0.1)";
   return {};
 }
 
@@ -147,13 +149,14 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
       e.solves += smp.solves;
       iterations += smp.newton_iterations;
     };
-    // Zero-orthogonal-stress compression at both ends of the range (6.5.3). The far end is
-    // reached by marching the sample stretches first, at the compression the targets'
-    // shape suggests (c*(s0) plus the target's change of c), each solve warm from the last:
-    // the search at s1 then starts from a nearby equilibrium instead of from the rest state
-    // (each of its trials was a cold solve to s1, most of an evaluation's cost).
+    // Every c* search starts from the targets' compression (c*(s0) at the target's value
+    // there; later nodes at the march's) and accepts a c whose orthogonal stress is within
+    // a small fraction of the stress norm (see ObjectiveOptions::compression_stress_fraction).
     Eigen::VectorXd g = g_rest;
+    const double c_tgt0 = interpolate_target(t.stretch, s0, &shell::UniaxialPoint::compression);
     yarn::CompressionOptions comp = m_options.compression;
+    comp.stress_tolerance = m_options.compression_stress_fraction * e.scale.stress_norm;
+    comp.initial_guess = c_tgt0;
     yarn::CoarseDeformation chi;
     chi.angle = angle;
     chi.stretch = s0;
@@ -162,40 +165,64 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
     if (!first.ok) return (dname + ": free compression at s = " + db::format_g(s0) + " failed: " + first.message);
     const double c0 = first.chi.compression;
     const auto stretch_at = [&](int i) { return s0 + (s1 - s0) * static_cast<double>(i) / (n - 1); };
-    const double c_tgt0 = interpolate_target(t.stretch, s0, &shell::UniaxialPoint::compression);
-    std::vector<Eigen::VectorXd> march(static_cast<std::size_t>(n));
-    std::vector<double> c_march(static_cast<std::size_t>(n), c0);
-    march[0] = g;
-    for (int i = 1; i < n; ++i) {
-      yarn::CoarseDeformation x = chi;
-      x.stretch = stretch_at(i);
-      x.compression = c0 + interpolate_target(t.stretch, x.stretch, &shell::UniaxialPoint::compression) - c_tgt0;
-      const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
-      count(smp);
-      if (!smp.ok) return (dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
-      march[static_cast<std::size_t>(i)] = g;
-      c_march[static_cast<std::size_t>(i)] = x.compression;
-    }
-
-    // Free-compression nodes: sample indices where c* is solved (the first is done above),
-    // each search starting from the march's state there; c between nodes is linear in s.
+    const auto target_c = [&](double s) { return interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression); };
     const int nodes = std::clamp(m_options.free_compression_every_sample ? n : m_options.compression_nodes, 2, n);
     std::vector<int> node_index;
     for (int k = 0; k < nodes; ++k)
       node_index.push_back(static_cast<int>(std::lround(static_cast<double>(k) * (n - 1) / (nodes - 1))));
     std::vector<yarn::Sample> node_sample{first};
-    for (int k = 1; k < nodes; ++k) {
-      const int i = node_index[static_cast<std::size_t>(k)];
-      g = march[static_cast<std::size_t>(i)];
-      yarn::CompressionOptions cs = m_options.compression;
-      cs.initial_guess = c_march[static_cast<std::size_t>(i)];
-      cs.initial_step = std::min(cs.initial_step, 0.02);
-      chi.stretch = stretch_at(i);
-      yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
-      count(smp);
-      if (!smp.ok)
-        return (dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
-      node_sample.push_back(std::move(smp));
+    std::vector<Eigen::VectorXd> march(static_cast<std::size_t>(n));
+    march[0] = g;
+
+    if (m_options.free_compression_every_sample) {
+      // c* at every sample, by continuation along s: each search starts from the previous
+      // sample's equilibrium, at its c* moved by the targets' change of c, with a first
+      // bracketing step of the size of the last change of c*.
+      double c_prev = c0, dc_prev = 0.0;
+      for (int i = 1; i < n; ++i) {
+        const double s = stretch_at(i);
+        yarn::CompressionOptions cs = comp;
+        cs.initial_guess = c_prev + target_c(s) - target_c(stretch_at(i - 1));
+        cs.initial_step = std::clamp(2.0 * std::abs(dc_prev), 0.002, std::min(cs.initial_step, 0.02));
+        chi.stretch = s;
+        yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
+        count(smp);
+        if (!smp.ok) return (dname + ": free compression at s = " + db::format_g(s) + " failed: " + smp.message);
+        dc_prev = smp.chi.compression - c_prev;
+        c_prev = smp.chi.compression;
+        march[static_cast<std::size_t>(i)] = g;
+        node_sample.push_back(std::move(smp));
+      }
+    } else {
+      // c* at the nodes only (6.5.3: both ends), linear in between. The far nodes are reached
+      // by marching the sample stretches first, at the compression the targets' shape
+      // suggests (c*(s0) plus the targets' change of c), each solve warm from the last: a
+      // node's search then starts from a nearby equilibrium instead of from the rest state
+      // (each of its trials was a cold solve, most of an evaluation's cost).
+      std::vector<double> c_march(static_cast<std::size_t>(n), c0);
+      for (int i = 1; i < n; ++i) {
+        yarn::CoarseDeformation x = chi;
+        x.stretch = stretch_at(i);
+        x.compression = c0 + target_c(x.stretch) - c_tgt0;
+        const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
+        count(smp);
+        if (!smp.ok) return (dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
+        march[static_cast<std::size_t>(i)] = g;
+        c_march[static_cast<std::size_t>(i)] = x.compression;
+      }
+      for (int k = 1; k < nodes; ++k) {
+        const int i = node_index[static_cast<std::size_t>(k)];
+        g = march[static_cast<std::size_t>(i)];
+        yarn::CompressionOptions cs = comp;
+        cs.initial_guess = c_march[static_cast<std::size_t>(i)];
+        cs.initial_step = std::min(cs.initial_step, 0.02);
+        chi.stretch = stretch_at(i);
+        yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
+        count(smp);
+        if (!smp.ok)
+          return (dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
+        node_sample.push_back(std::move(smp));
+      }
     }
 
     // Samples at the interpolated compression, each warm-started from the march's state at
@@ -277,6 +304,22 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
   }
   out.value = total;
   return finish({});
+}
+
+WeightedErrors weighted_errors(const ObjectiveResult& result) {
+  WeightedErrors out;
+  if (!result.ok) return out;
+  for (const auto& d : result.directions) {
+    const double n = static_cast<double>(d.stretch.size());
+    for (std::size_t i = 0; i < d.stretch.size(); ++i) {
+      const double w = d.weight[i] / n;
+      out.error.push_back((d.stress_sim[i] - d.stress_target[i]) / d.scale.stress_norm);
+      out.weight.push_back(w);
+      out.error.push_back((d.compression_sim[i] - d.compression_target[i]) / d.scale.compression_norm);
+      out.weight.push_back(w);
+    }
+  }
+  return out;
 }
 
 }  // namespace yarnfit::calibration

@@ -112,8 +112,40 @@ TEST_F(FitCli, YarnFitWritesTheSpecifiedJsonCurvesAndSummary) {
 
   const std::string summary = read_file(out / "yarn_summary.txt");
   for (const char* expected : {"weft", "stress comfort", "ks1", "eps_s", "kb", "R1", "kc1", "in [", "swarm", "local",
-                               "time: swarm"})
+                               "time: swarm", "c* at every sample"})
     EXPECT_NE(summary.find(expected), std::string::npos) << expected << "\n" << summary;
+}
+
+// Rotation of the material frame: the same tile turned by 90° in its file, with
+// `weft_axis: y`, is the same fabric, and one objective evaluation must say so.
+TEST_F(FitCli, WeftAlongTheTileYAxisIsTheSameFabricTurned) {
+  db::Problems problems;
+  const auto tile = db::read_pyp(fabric() / "tile.pyp", problems);
+  ASSERT_TRUE(tile) << problems.to_string();
+  db::PeriodicTile turned = *tile;  // (x, y) -> (-y, x): the weft (x) now runs along y
+  std::swap(turned.period_x, turned.period_y);
+  for (auto& q : turned.positions) q = {-q[1], q[0], q[2]};
+  for (auto& d : turned.reference_directors) d = {-d[1], d[0], d[2]};
+  for (auto& e : turned.edges) e = {e.v0, e.v1, -e.dy, e.dx};
+  const fs::path dir = edited_fabric("weft_y", "weft_axis: x", "weft_axis: y");
+  db::write_pyp(turned, dir / "tile.pyp");
+
+  const std::string once =
+      " --no-swarm --local-evaluations 1 --local-samples 3 --samples 3 --threads 2 --quiet";
+  const auto a = run_cli(yarn_fit(fabric(), targets(), *s_dir / "weft_x_out") + once);
+  const auto b = run_cli(yarn_fit(dir, targets(), *s_dir / "weft_y_out") + once);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const json ja = read_json(*s_dir / "weft_x_out" / "yarn_fit.json");
+  const json jb = read_json(*s_dir / "weft_y_out" / "yarn_fit.json");
+  const double ga = ja["objective"].get<double>(), gb = jb["objective"].get<double>();
+  EXPECT_GT(ga, 0.0);
+  // Equal to the solver's tolerance (the turned file differs by round-off); reading the
+  // wrong axis as the weft would compare the warp response with weft targets instead.
+  EXPECT_NEAR(gb, ga, 1e-5 * ga);
+  EXPECT_NEAR(jb["errors"]["stress_full_pct"].get<double>(), ja["errors"]["stress_full_pct"].get<double>(),
+              1e-5 * ja["errors"]["stress_full_pct"].get<double>());
+  EXPECT_EQ(jb["params"], ja["params"]);
 }
 
 TEST_F(FitCli, YarnFitRefusesToOverwriteWithoutForceAndSaysWhereResultsAre) {

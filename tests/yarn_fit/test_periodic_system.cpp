@@ -183,6 +183,39 @@ TEST_F(StockinetteSystem, RootFindAndCobylaAgreeOnTheZeroOrthogonalStressCompres
               a.solves, b.chi.compression, b.solves);
 }
 
+// With a stress tolerance the root find stops at the first c it evaluates inside the band
+// |∂Ψ/∂c| ≤ tolerance; a guess already inside is kept.
+TEST_F(StockinetteSystem, CompressionStressToleranceStopsInsideTheBandNearTheGuess) {
+  YarnSystem sys(make_yarn_tile(tile), params);
+  const Eigen::VectorXd g0 = Eigen::VectorXd::Zero(sys.dof_count());
+  const CoarseDeformation chi{0.2, 0.0, 0.0, weft_angle()};
+  Eigen::VectorXd g = g0;
+  const Sample exact = solve_free_compression(sys, chi, g, {});
+  ASSERT_TRUE(exact.ok) << exact.message;
+  const Eigen::VectorXd g_exact = g;
+
+  CompressionOptions band;
+  band.stress_tolerance = 0.02 * exact.stress_s;
+  band.initial_guess = exact.chi.compression + 0.03;
+  g = g_exact;
+  const Sample near = solve_free_compression(sys, chi, g, band);
+  ASSERT_TRUE(near.ok) << near.message;
+  EXPECT_LE(std::abs(near.stress_c), band.stress_tolerance);
+  // The bracketing aims just past the secant root, so the first c in the band may lie on
+  // either side of c*; it is never further than the guess, and found with fewer solves.
+  EXPECT_LT(std::abs(near.chi.compression - exact.chi.compression), 0.03);
+  EXPECT_LE(near.solves, exact.solves);
+
+  band.initial_guess = exact.chi.compression;
+  g = g_exact;
+  const Sample kept = solve_free_compression(sys, chi, g, band);
+  ASSERT_TRUE(kept.ok) << kept.message;
+  EXPECT_EQ(kept.solves, 1);
+  EXPECT_EQ(kept.chi.compression, exact.chi.compression);
+  std::printf("exact c* %.5f (%d solves); band ±%.3g N/m from c* + 0.03: %.5f (%d solves)\n",
+              exact.chi.compression, exact.solves, band.stress_tolerance, near.chi.compression, near.solves);
+}
+
 // Item 3: the co-rotated map tends to the affine one, and the equilibrated Ψ(κ) is smooth
 // through κ = 0 on the rest-shaped tile (the state every fit starts from). Stockinette curls,
 // so dΨ/dκ ≠ 0 at κ = 0; smoothness shows as second differences that agree between the

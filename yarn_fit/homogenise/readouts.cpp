@@ -122,6 +122,8 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
     if (!sa.ok) {
       result = sa;
       result.message = "compression search: " + sa.message;
+    } else if (std::abs(sa.stress_c) <= co.stress_tolerance) {
+      result = sa;  // already free of orthogonal stress within the tolerance
     } else {
       double fa = sa.stress_c;
       double step = co.initial_step * (fa < 0.0 ? 1.0 : -1.0);  // Ψ decreases towards larger c when f < 0
@@ -146,7 +148,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
         sb = search.at(b);
         if (!sb.ok) break;
         fb = sb.stress_c;
-        if ((fa < 0.0) != (fb < 0.0)) {
+        if ((fa < 0.0) != (fb < 0.0) || std::abs(fb) <= co.stress_tolerance) {
           bracketed = true;
           break;
         }
@@ -162,7 +164,8 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
         int side = 0;
         Sample sc = sb;
         double previous = b;
-        while (search.evaluations < co.max_evaluations && std::abs(b - a) > co.tolerance) {
+        while (search.evaluations < co.max_evaluations && std::abs(b - a) > co.tolerance &&
+               std::abs(sc.stress_c) > co.stress_tolerance) {
           const double c = (a * fb - b * fa) / (fb - fa);
           // Regula falsi keeps one end of the bracket: stop once the iterate itself settles.
           if (std::abs(c - previous) <= 0.1 * co.tolerance) break;
@@ -185,7 +188,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
         }
         result = sc;
         if (!sc.ok) result.message = "compression search: " + sc.message;
-        else if (std::abs(b - a) > co.tolerance && sc.stress_c != 0.0 &&
+        else if (std::abs(b - a) > co.tolerance && std::abs(sc.stress_c) > co.stress_tolerance &&
                  search.evaluations >= co.max_evaluations) {
           result.ok = false;
           result.message = "compression search: evaluation limit before the tolerance";

@@ -1,0 +1,73 @@
+#include "calibration/objective/bending_check.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "fabrics_db/text_util.hpp"
+
+namespace yarnfit::calibration {
+
+BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<DirectionTargets>& targets,
+                           const yarn::YarnParams& params, const ObjectiveOptions& options, int points) {
+  const auto start = std::chrono::steady_clock::now();
+  BendingCheck out;
+  auto finish = [&](std::string message) {
+    out.ok = message.empty();
+    out.message = std::move(message);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  };
+  bool any = false;
+  for (const auto& t : targets) any = any || t.bending.size() >= 2;
+  if (!any) return finish({});
+  if (points < 2) return finish("bending check: points must be at least 2");
+  if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
+
+  yarn::YarnSystem relaxed(tile, params);
+  Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(relaxed.dof_count());
+  if (options.rest_shape) {
+    const auto rest = relax_rest_shape(relaxed, g_rest, options.rest);
+    if (!rest.converged) return finish("rest-shape heuristic did not converge: " + rest.last_solve.message);
+  }
+  double sum = 0.0;
+  for (const auto& t : targets) {
+    if (t.bending.size() < 2) continue;
+    const std::string dname(db::to_string(t.direction));
+    BendingDirectionError e;
+    e.direction = t.direction;
+    yarn::YarnSystem system = relaxed;
+    Eigen::VectorXd g = g_rest;
+    yarn::CoarseDeformation chi;
+    chi.angle = db::pull_angle(t.direction);
+    const yarn::BendingSample flat = yarn::simulate_bending(system, chi, g, 0.0, options.solve);
+    out.solves += flat.centre.solves;
+    if (!flat.ok) return finish(dname + ": bending at κ = 0 failed: " + flat.message);
+    e.curl_stress = flat.stress_kappa;
+    const std::size_t m = t.bending.size();
+    double largest = 0.0;
+    for (const auto& b : t.bending) largest = std::max(largest, std::abs(b.stress));
+    double abs_sum = 0.0;
+    for (int k = 0; k < points; ++k) {
+      const std::size_t i = static_cast<std::size_t>(std::lround(static_cast<double>(k) * static_cast<double>(m - 1) / (points - 1)));
+      chi.curvature = t.bending[i].curvature;
+      double sigma = flat.stress_kappa;
+      if (chi.curvature != 0.0) {
+        const yarn::BendingSample bs = yarn::simulate_bending(system, chi, g, 0.0, options.solve);
+        out.solves += bs.centre.solves;
+        if (!bs.ok) return finish(dname + ": bending at κ = " + db::format_g(chi.curvature) + " 1/m failed: " + bs.message);
+        sigma = bs.stress_kappa;
+      }
+      e.curvature.push_back(chi.curvature);
+      e.stress_sim.push_back(sigma - flat.stress_kappa);
+      e.stress_target.push_back(t.bending[i].stress);
+      abs_sum += std::abs(e.stress_sim.back() - e.stress_target.back());
+    }
+    e.error_pct = largest > 0.0 ? 100.0 * abs_sum / points / largest : 0.0;
+    sum += e.error_pct;
+    out.directions.push_back(std::move(e));
+  }
+  out.bending_pct = sum / static_cast<double>(out.directions.size());
+  return finish({});
+}
+
+}  // namespace yarnfit::calibration
