@@ -231,7 +231,10 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
   j["objective"] = r.final.ok ? number_or_null(r.final.value) : nlohmann::json();
   j["on_bound"] = r.on_bound;
   j["evaluations"] = r.evaluations;
-  j["timing_s"] = {{"swarm", r.seconds_swarm}, {"local", r.seconds_local}, {"total", r.seconds_total}};
+  j["timing_s"] = {{"swarm", r.seconds_swarm},
+                   {"local", r.seconds_local},
+                   {"bending_check", r.bending.seconds},
+                   {"total", r.seconds_total}};
   j["settings"] = {
       {"particles", settings.swarm ? settings.particles : 0},
       {"iterations", settings.swarm ? settings.iterations : 0},

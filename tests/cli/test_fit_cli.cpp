@@ -229,6 +229,10 @@ TEST_F(FitCli, FitRunsShellThenYarnAndWritesBothStagesAndASummary) {
   EXPECT_TRUE(yarn["params"]["ks1"].is_number());
   EXPECT_TRUE(yarn["errors"]["stress_comfort_pct"].is_number());
   EXPECT_EQ(yarn["targets"], (out / "uniform_targets.csv").string());
+  // No pear-loop tests, so no bending targets: nothing to check, and the JSON says so.
+  EXPECT_TRUE(yarn["errors"]["bending_pct"].is_null());
+  EXPECT_FALSE(yarn.contains("bending_check"));
+  EXPECT_LT(yarn["timing_s"]["bending_check"].get<double>(), 0.01);  // returned at once
 
   const auto shell_csv = lines_of(read_file(out / "shell_curves.csv"));
   ASSERT_GE(shell_csv.size(), 2u);
