@@ -9,6 +9,7 @@
 #include "calibration/objective/bending_check.hpp"
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/calibration/stockinette_case.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 
@@ -16,13 +17,10 @@ namespace yarnfit::calibration {
 namespace {
 
 TEST(BendingCheck, ZeroAgainstItsOwnResponseAndTheStatedErrorAgainstTwiceIt) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
-  YARNFIT_REQUIRE_SHARED(pattern);
-  db::Problems problems;
-  const auto tile = db::read_pyp(pattern, problems);
-  ASSERT_TRUE(tile) << problems.to_string();
-  const yarn::YarnTile ytile = yarn::make_yarn_tile(*tile);
-  const yarn::YarnParams params = yarn::default_params({400.0, db::compute_tile_facts(*tile).r_est});
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const yarn::YarnTile ytile = st.yarn_tile();
+  const yarn::YarnParams params = yarn::default_params(st.scales);
   // The fit passes its objective's options, whose loose tolerance is 1e-3 of the comfort
   // stress norm times the shorter period (about 3e-5 N here): a bent, barely touching tile
   // creeps with a residual below that for hundreds of iterations.

@@ -5,6 +5,7 @@
 #include "calibration/fit/yarn_calibration.hpp"
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/calibration/stockinette_case.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 
@@ -12,17 +13,10 @@ namespace yarnfit::calibration {
 namespace {
 
 TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
-  YARNFIT_REQUIRE_SHARED(pattern);
-  db::Problems problems;
-  const auto tile = db::read_pyp(pattern, problems);
-  ASSERT_TRUE(tile) << problems.to_string();
-  const yarn::ParameterScales scales{400.0, db::compute_tile_facts(*tile).r_est};
-  SyntheticYarnOptions so;
-  so.directions = {db::Direction::weft};
-  so.max_stretch = 0.1;
-  so.points = 3;
-  const SyntheticYarnResult synth = simulate_yarn_targets(*tile, yarn::default_params(scales), so);
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const yarn::ParameterScales& scales = st.scales;
+  const SyntheticYarnResult synth = st.synthesise(yarn::default_params(scales), {db::Direction::weft}, 0.1, 3);
 
   YarnFitSettings s;
   s.particles = 3;
@@ -34,7 +28,7 @@ TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
   s.objective.solve.max_iterations = 1;  // no equilibrium can converge: every evaluation fails
   for (const bool swarm : {true, false}) {
     s.swarm = swarm;
-    const YarnFitResult r = fit_yarn_params(yarn::make_yarn_tile(*tile), synth.targets, scales, s);
+    const YarnFitResult r = fit_yarn_params(st.yarn_tile(), synth.targets, scales, s);
     EXPECT_FALSE(r.ok) << "swarm " << swarm;
     EXPECT_FALSE(r.final.ok);
     EXPECT_NE(r.message.find(swarm ? "every swarm candidate failed" : "failed"), std::string::npos) << r.message;

@@ -10,6 +10,7 @@
 #include "calibration/objective/yarn_objective.hpp"
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/calibration/stockinette_case.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 
@@ -17,18 +18,11 @@ namespace yarnfit::calibration {
 namespace {
 
 TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
-  YARNFIT_REQUIRE_SHARED(pattern);
-  db::Problems problems;
-  const auto tile = db::read_pyp(pattern, problems);
-  ASSERT_TRUE(tile) << problems.to_string();
-  const yarn::YarnParams truth = yarn::default_params({400.0, db::compute_tile_facts(*tile).r_est});
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const yarn::YarnParams truth = yarn::default_params(st.scales);
 
-  SyntheticYarnOptions so;
-  so.directions = {db::Direction::weft};
-  so.max_stretch = 0.2;
-  so.points = 4;
-  const SyntheticYarnResult synth = simulate_yarn_targets(*tile, truth, so);
+  const SyntheticYarnResult synth = st.synthesise(truth, {db::Direction::weft}, 0.2, 4);
   ASSERT_EQ(synth.targets.size(), 1u);
   std::cout << "[ synth    ] 4 weft targets in " << synth.seconds << " s\n";
 
@@ -38,9 +32,9 @@ TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
   ObjectiveOptions oo;
   oo.samples = 4;
   oo.free_compression_every_sample = false;
-  const YarnObjective objective(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  const YarnObjective objective(st.yarn_tile(), synth.targets, oo);
   oo.free_compression_every_sample = true;
-  const YarnObjective exact(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  const YarnObjective exact(st.yarn_tile(), synth.targets, oo);
   ASSERT_EQ(objective.scales().size(), 1u);
   EXPECT_GT(objective.scales()[0].stress_norm, 0.0);
 
@@ -102,22 +96,15 @@ TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
 // cuts early solves short, or an exact c* search where the fabric is slack across its width,
 // made a 1e-6 change of ks1 move the normalised errors by 5e-3; now they move in proportion.
 TEST(YarnObjective, ErrorsAreContinuousInTheParameters) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
-  YARNFIT_REQUIRE_SHARED(pattern);
-  db::Problems problems;
-  const auto tile = db::read_pyp(pattern, problems);
-  ASSERT_TRUE(tile) << problems.to_string();
-  const yarn::ParameterScales scales{400.0, db::compute_tile_facts(*tile).r_est};
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const yarn::ParameterScales& scales = st.scales;
   yarn::YarnParams truth = yarn::default_params(scales);
   truth.ks1 = 0.05 * scales.ks2;
-  SyntheticYarnOptions so;
-  so.directions = {db::Direction::weft};
-  so.max_stretch = 0.2;
-  so.points = 4;
-  const SyntheticYarnResult synth = simulate_yarn_targets(*tile, truth, so);
+  const SyntheticYarnResult synth = st.synthesise(truth, {db::Direction::weft}, 0.2, 4);
   ObjectiveOptions oo;
   oo.samples = 4;
-  const YarnObjective objective(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  const YarnObjective objective(st.yarn_tile(), synth.targets, oo);
   yarn::YarnParams p = truth;
   p.ks1 *= 1.3;  // away from the truth, where the errors are not zero
   const WeightedErrors base = weighted_errors(objective.evaluate(p));
@@ -136,21 +123,14 @@ TEST(YarnObjective, ErrorsAreContinuousInTheParameters) {
 
 // Directions run in parallel outside the swarm: the value must not depend on the thread count.
 TEST(YarnObjective, SameValueWithOneAndTwoThreads) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
-  YARNFIT_REQUIRE_SHARED(pattern);
-  db::Problems problems;
-  const auto tile = db::read_pyp(pattern, problems);
-  ASSERT_TRUE(tile) << problems.to_string();
-  const yarn::ParameterScales scales{400.0, db::compute_tile_facts(*tile).r_est};
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const yarn::ParameterScales& scales = st.scales;
   const yarn::YarnParams truth = yarn::default_params(scales);
-  SyntheticYarnOptions so;
-  so.directions = {db::Direction::weft, db::Direction::warp};
-  so.max_stretch = 0.15;
-  so.points = 3;
-  const SyntheticYarnResult synth = simulate_yarn_targets(*tile, truth, so);
+  const SyntheticYarnResult synth = st.synthesise(truth, {db::Direction::weft, db::Direction::warp}, 0.15, 3);
   ObjectiveOptions oo;
   oo.samples = 3;
-  const YarnObjective objective(yarn::make_yarn_tile(*tile), synth.targets, oo);
+  const YarnObjective objective(st.yarn_tile(), synth.targets, oo);
   yarn::YarnParams p = truth;
   p.ks1 *= 1.5;
   const int threads = omp_get_max_threads();
@@ -168,18 +148,15 @@ TEST(YarnObjective, SameValueWithOneAndTwoThreads) {
 }
 
 TEST(YarnObjective, RejectsTargetsWithoutStretch) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
-  YARNFIT_REQUIRE_SHARED(pattern);
-  db::Problems problems;
-  const auto tile = db::read_pyp(pattern, problems);
-  ASSERT_TRUE(tile);
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
   std::vector<DirectionTargets> none(1);
-  EXPECT_THROW(YarnObjective(yarn::make_yarn_tile(*tile), none), std::invalid_argument);
+  EXPECT_THROW(YarnObjective(st.yarn_tile(), none), std::invalid_argument);
   ObjectiveOptions o;
   o.samples = 1;
   std::vector<DirectionTargets> t(1);
   t[0].stretch = {{0.0, 0.0, 0.0, true}, {0.1, 0.02, 5.0, true}};
-  EXPECT_THROW(YarnObjective(yarn::make_yarn_tile(*tile), t, o), std::invalid_argument);
+  EXPECT_THROW(YarnObjective(st.yarn_tile(), t, o), std::invalid_argument);
 }
 
 }  // namespace
