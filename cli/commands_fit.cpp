@@ -251,7 +251,9 @@ std::string yarn_summary(const calibration::YarnFitResult& r, const calibration:
   out << "  evaluations: " << r.evaluations << "\n";
   out << "  time: swarm " << db::format_g(r.seconds_swarm, 3) << " s, local " << db::format_g(r.seconds_local, 3)
       << " s, total " << db::format_g(r.seconds_total, 3) << " s\n";
-  if (!r.swarm.history.empty()) out << "  swarm: " << r.swarm.brief_report() << "\n";
+  if (!r.swarm.history.empty())
+    out << "  swarm: " << r.swarm.brief_report() << "; " << r.swarm_stopped
+        << " candidates stopped once they could not beat their particle's best\n";
   out << "  local: " << r.local.brief_report() << "\n";
   return out.str();
 }

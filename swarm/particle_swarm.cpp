@@ -145,7 +145,8 @@ void evaluate(detail::SwarmState& st, const ParameterSpace& space, const Particl
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    results[k] = evaluate_guarded([&] { return objective(points[k], ParticleContext{iteration, i}); });
+    const ParticleContext context{iteration, i, st.best_value[i]};
+    results[k] = evaluate_guarded([&] { return objective(points[k], context); });
   }
 
   SwarmSummary& sum = st.summary;

@@ -92,7 +92,8 @@ struct IterationRecord {
   int iteration = 0;  // from 1
   // Best value found so far (this and all earlier iterations); +inf while none succeeded.
   double best_value = std::numeric_limits<double>::infinity();
-  // Best and mean of this iteration's successful evaluations; +inf when all failed.
+  // Best and mean of this iteration's successful evaluations; +inf when all failed. Values
+  // at or above their particle's own best may be lower bounds (ParticleContext::cutoff).
   double iteration_best = std::numeric_limits<double>::infinity();
   double mean_value = std::numeric_limits<double>::infinity();
   int failed = 0;        // failed evaluations in this iteration

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -13,6 +14,7 @@ namespace yarnfit::calibration {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -123,10 +125,21 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
         return true;
       };
     }
-    const swarm::Objective f = [&](const Eigen::VectorXd& x) { return value_at(objective, x); };
+    // Each candidate stops once it cannot beat its particle's best (ParticleContext::cutoff):
+    // the swarm runs as it would with exact values, and the hopeless candidates (stiff,
+    // tight tiles, the slowest to simulate) end after their first samples.
+    std::atomic<int> stopped{0};
+    const swarm::ParticleObjective f = [&](const Eigen::VectorXd& x, const swarm::ParticleContext& c) {
+      const ObjectiveResult r =
+          objective.evaluate(params_from_point(x, scales, settings.linear_stretch), settings.swarm_cutoff ? c.cutoff : kInf);
+      if (!r.ok) throw std::runtime_error(r.message);
+      if (r.lower_bound) ++stopped;
+      return r.value;
+    };
     out.swarm = settings.resume ? swarm::resume_swarm(settings.checkpoint, space, f, run)
                                 : swarm::run_swarm(space, f, ss, run);
     out.evaluations += out.swarm.evaluations;
+    out.swarm_stopped = stopped.load();
     out.seconds_swarm = out.swarm.seconds;
     if (!out.swarm.usable()) {
       out.message = "every swarm candidate failed: " +
@@ -248,13 +261,14 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"linear_stretch", settings.linear_stretch},
       {"rest_shape", settings.rest_shape},
       {"bending_points", settings.bending_points},
+      {"swarm_cutoff", settings.swarm_cutoff},
   };
   if (settings.swarm) {
     nlohmann::json history = nlohmann::json::array();
     for (const auto& h : r.swarm.history)
       history.push_back({{"iteration", h.iteration}, {"best", number_or_null(h.best_value)}, {"failed", h.failed}});
     j["swarm"] = {{"best", number_or_null(r.swarm.best_value)}, {"evaluations", r.swarm.evaluations},
-                  {"failed", r.swarm.failed}, {"history", history}};
+                  {"failed", r.swarm.failed}, {"stopped_at_cutoff", r.swarm_stopped}, {"history", history}};
   }
   j["local"] = {{"status", swarm::to_string(r.local.status)}, {"message", r.local.message},
                 {"best", number_or_null(r.local.best_value)}, {"evaluations", r.local.evaluations},

@@ -47,6 +47,11 @@ struct YarnFitSettings {
   bool swarm = true;           // false (--no-swarm): COBYLA alone from the middle of the bounds
   bool linear_stretch = false; // ks1 = ks2, ε̄s = 0 (--linear-stretch)
   bool rest_shape = true;      // false (--no-rest-shape): the tile's own rest shape
+  // A swarm candidate stops simulating once its g reaches its particle's best so far
+  // (YarnObjective::evaluate's cutoff). The run is the same as without (swarm bests, the
+  // local step, the result); false evaluates every candidate in full (for studies of the
+  // objective over the swarm's candidates).
+  bool swarm_cutoff = true;
   int local_evaluations = 60;  // COBYLA budget (objective evaluations)
   double local_initial_step = 0.05;  // COBYLA's first step, as a fraction of each range
   std::filesystem::path checkpoint;  // swarm checkpoint file (empty: none)
@@ -72,6 +77,7 @@ struct YarnFitResult {
   swarm::SwarmSummary swarm;        // empty history when the swarm was not run
   swarm::CobylaSummary local;
   int evaluations = 0;              // objective evaluations, both stages
+  int swarm_stopped = 0;            // swarm candidates stopped at their particle's best
   double seconds_swarm = 0.0;
   double seconds_local = 0.0;
   double seconds_total = 0.0;

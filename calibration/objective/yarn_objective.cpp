@@ -111,7 +111,7 @@ double YarnObjective::operator()(const yarn::YarnParams& params) const {
   return r.value;
 }
 
-ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
+ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double cutoff) const {
   const auto start = Clock::now();
   ObjectiveResult out;
   out.value = std::numeric_limits<double>::infinity();
@@ -138,7 +138,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
   // in parallel. Returns why it failed, or an empty string.
   const int n = m_options.samples;
   const auto run_direction = [&](std::size_t d, yarn::YarnSystem& system, DirectionError& e, int& iterations,
-                                 int& loose) -> std::string {
+                                 int& loose, bool& stopped) -> std::string {
     const DirectionTargets& t = m_targets[d];
     const std::string dname(db::to_string(t.direction));
     const double angle = db::pull_angle(t.direction);
@@ -152,6 +152,42 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
     // Every c* search starts from the targets' compression (c*(s0) at the target's value
     // there; later nodes at the march's) and accepts a c whose orthogonal stress is within
     // a small fraction of the stress norm (see ObjectiveOptions::compression_stress_fraction).
+    // Sample i's terms, added as soon as its c and σ are known. True once this direction's
+    // partial sum reaches the cutoff: the terms are non-negative, so g does too.
+    double sum_sq = 0.0, abs_comfort = 0.0, abs_full = 0.0, abs_c = 0.0;
+    int n_comfort = 0;
+    const auto add_sample = [&](double s, double c, double sigma) {
+      const double s_sim = pk2(sigma, s);
+      const double s_tgt = target_pk2(t.stretch, s);
+      const double c_tgt = interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression);
+      const double w = e.scale.comfort_value / std::max(e.scale.comfort_value, s_tgt);
+      const double ds = (s_sim - s_tgt) / e.scale.stress_norm;
+      const double dc = (c - c_tgt) / e.scale.compression_norm;
+      sum_sq += w * (ds * ds + dc * dc);
+      abs_full += std::abs(ds);
+      abs_c += std::abs(dc);
+      if (s <= e.scale.comfort_stretch + 1e-12) {
+        abs_comfort += std::abs(ds);
+        ++n_comfort;
+      }
+      e.stretch.push_back(s);
+      e.stress_sim.push_back(s_sim);
+      e.stress_target.push_back(s_tgt);
+      e.compression_sim.push_back(c);
+      e.compression_target.push_back(c_tgt);
+      e.weight.push_back(w);
+      stopped = sum_sq / n >= cutoff;
+      return stopped;
+    };
+    const auto finish_direction = [&]() -> std::string {
+      const auto run = static_cast<double>(e.stretch.size());
+      e.value = sum_sq / n;
+      e.stress_full_pct = 100.0 * abs_full / run;
+      e.stress_comfort_pct = n_comfort > 0 ? 100.0 * abs_comfort / n_comfort : e.stress_full_pct;
+      e.compression_pct = 100.0 * abs_c / run;
+      return {};
+    };
+
     Eigen::VectorXd g = g_rest;
     const double c_tgt0 = interpolate_target(t.stretch, s0, &shell::UniaxialPoint::compression);
     yarn::CompressionOptions comp = m_options.compression;
@@ -178,6 +214,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
       // c* at every sample, by continuation along s: each search starts from the previous
       // sample's equilibrium, at its c* moved by the targets' change of c, with a first
       // bracketing step of the size of the last change of c*.
+      if (add_sample(s0, c0, first.stress_s)) return finish_direction();
       double c_prev = c0, dc_prev = 0.0;
       for (int i = 1; i < n; ++i) {
         const double s = stretch_at(i);
@@ -190,9 +227,9 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
         if (!smp.ok) return (dname + ": free compression at s = " + db::format_g(s) + " failed: " + smp.message);
         dc_prev = smp.chi.compression - c_prev;
         c_prev = smp.chi.compression;
-        march[static_cast<std::size_t>(i)] = g;
-        node_sample.push_back(std::move(smp));
+        if (add_sample(s, smp.chi.compression, smp.stress_s)) break;
       }
+      return finish_direction();
     } else {
       // c* at the nodes only (6.5.3: both ends), linear in between. The far nodes are reached
       // by marching the sample stretches first, at the compression the targets' shape
@@ -227,8 +264,6 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
 
     // Samples at the interpolated compression, each warm-started from the march's state at
     // the same stretch (a nearby compression); nodes reuse their free-compression solves.
-    double sum_sq = 0.0, abs_comfort = 0.0, abs_full = 0.0, abs_c = 0.0;
-    int n_comfort = 0;
     std::size_t k = 0;  // node at or before sample i
     for (int i = 0; i < n; ++i) {
       const double s = stretch_at(i);
@@ -251,31 +286,9 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
         if (!smp.ok) return (dname + ": sample at s = " + db::format_g(s) + " failed: " + smp.message);
         sigma = smp.stress_s;
       }
-      const double s_sim = pk2(sigma, s);
-      const double s_tgt = target_pk2(t.stretch, s);
-      const double c_tgt = interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression);
-      const double w = e.scale.comfort_value / std::max(e.scale.comfort_value, s_tgt);
-      const double ds = (s_sim - s_tgt) / e.scale.stress_norm;
-      const double dc = (c - c_tgt) / e.scale.compression_norm;
-      sum_sq += w * (ds * ds + dc * dc);
-      abs_full += std::abs(ds);
-      abs_c += std::abs(dc);
-      if (s <= e.scale.comfort_stretch + 1e-12) {
-        abs_comfort += std::abs(ds);
-        ++n_comfort;
-      }
-      e.stretch.push_back(s);
-      e.stress_sim.push_back(s_sim);
-      e.stress_target.push_back(s_tgt);
-      e.compression_sim.push_back(c);
-      e.compression_target.push_back(c_tgt);
-      e.weight.push_back(w);
+      if (add_sample(s, c, sigma)) break;
     }
-    e.value = sum_sq / n;
-    e.stress_full_pct = 100.0 * abs_full / n;
-    e.stress_comfort_pct = n_comfort > 0 ? 100.0 * abs_comfort / n_comfort : e.stress_full_pct;
-    e.compression_pct = 100.0 * abs_c / n;
-    return {};
+    return finish_direction();
   };
 
   // Directions in parallel when not already inside a parallel region (the swarm evaluates
@@ -286,18 +299,32 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params) const {
   std::vector<DirectionError> errors(static_cast<std::size_t>(nd));
   std::vector<std::string> failures(static_cast<std::size_t>(nd));
   std::vector<int> iterations(static_cast<std::size_t>(nd), 0), loose(static_cast<std::size_t>(nd), 0);
-#pragma omp parallel for schedule(dynamic) if (nd > 1 && !omp_in_parallel())
+  std::vector<char> stopped(static_cast<std::size_t>(nd), 0), skipped(static_cast<std::size_t>(nd), 0);
+  const bool parallel = nd > 1 && !omp_in_parallel();
+#pragma omp parallel for schedule(dynamic) if (parallel)
   for (int d = 0; d < nd; ++d) {
     const auto k = static_cast<std::size_t>(d);
+    // Run serially, a stop makes the remaining directions pointless.
+    if (!parallel && std::find(stopped.begin(), stopped.begin() + d, 1) != stopped.begin() + d) {
+      skipped[k] = 1;
+      continue;
+    }
     yarn::YarnSystem copy = relaxed;
     errors[k].scale = m_scales[k];
-    failures[k] = run_direction(k, copy, errors[k], iterations[k], loose[k]);
+    bool stop = false;
+    failures[k] = run_direction(k, copy, errors[k], iterations[k], loose[k], stop);
+    stopped[k] = stop ? 1 : 0;
   }
+  out.lower_bound = std::find(stopped.begin(), stopped.end(), 1) != stopped.end();
   double total = 0.0;
   for (std::size_t k = 0; k < errors.size(); ++k) {
     out.newton_iterations += iterations[k];
     out.loose_solves += loose[k];
-    if (!failures[k].empty()) return finish(failures[k]);
+    if (skipped[k]) continue;
+    if (!failures[k].empty()) {
+      if (out.lower_bound) continue;  // g is already known to reach the cutoff
+      return finish(failures[k]);
+    }
     total += errors[k].value;
     out.solves += errors[k].solves;
     out.directions.push_back(std::move(errors[k]));

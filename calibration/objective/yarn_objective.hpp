@@ -31,6 +31,7 @@
 // over all samples, compression over all samples.
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -102,6 +103,10 @@ struct ObjectiveResult {
   bool ok = false;
   std::string message;  // why it failed (rest shape or a sample did not converge)
   double value = 0.0;   // g (+inf when !ok)
+  // The evaluation stopped once g was known to be at least the cutoff it was given: value is
+  // then a lower bound of g (at or above the cutoff), and the directions' errors and curves
+  // cover only the samples run.
+  bool lower_bound = false;
   std::vector<DirectionError> directions;
   yarn::RestShapeResult rest;
   int solves = 0;
@@ -118,7 +123,14 @@ class YarnObjective {
 
   // Never throws for numerical trouble: a failed simulation gives ok = false, value = +inf.
   // Safe to call concurrently (each call works on its own copy of the tile).
-  [[nodiscard]] ObjectiveResult evaluate(const yarn::YarnParams& params) const;
+  //
+  // With a finite cutoff (the swarm's ParticleContext::cutoff), a direction stops as soon as
+  // its own partial sum reaches the cutoff, and the result is a lower bound (lower_bound).
+  // Each direction decides on its own sum, so where the evaluation stops does not depend on
+  // whether the directions run in parallel; run serially, the directions after a stopped one
+  // are skipped. A stopped evaluation counts as stopped even when a later direction fails.
+  [[nodiscard]] ObjectiveResult evaluate(const yarn::YarnParams& params,
+                                         double cutoff = std::numeric_limits<double>::infinity()) const;
   // g for the optimisers; throws std::runtime_error with the reason when the evaluation
   // fails (swarm::evaluate_guarded turns that into a penalised failure).
   [[nodiscard]] double operator()(const yarn::YarnParams& params) const;

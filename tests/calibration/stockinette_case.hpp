@@ -22,6 +22,13 @@ struct Stockinette {
   yarn::ParameterScales scales;
 
   [[nodiscard]] yarn::YarnTile yarn_tile() const { return yarn::make_yarn_tile(tile); }
+  // The default parameters with a soft toe phase (ks1 = 0.05 ks2), where the objective's
+  // errors depend on ks1.
+  [[nodiscard]] yarn::YarnParams soft_toe_params() const {
+    yarn::YarnParams p = yarn::default_params(scales);
+    p.ks1 = 0.05 * scales.ks2;
+    return p;
+  }
   // Uniform targets simulated from `truth` over [0, max_stretch] with `points` per direction.
   [[nodiscard]] SyntheticYarnResult synthesise(const yarn::YarnParams& truth, std::vector<db::Direction> directions,
                                                double max_stretch, int points) const {

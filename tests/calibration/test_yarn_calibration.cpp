@@ -1,6 +1,9 @@
-// The calibration driver when nothing works: every candidate failing is reported with the
-// reason, not thrown, and no parameters are passed off as a fit.
+// The calibration driver: when nothing works, every candidate failing is reported with the
+// reason, not thrown, and no parameters are passed off as a fit; and stopping swarm
+// candidates at their particle's best leaves the fit as it was.
 #include <gtest/gtest.h>
+
+#include <iostream>
 
 #include "calibration/fit/yarn_calibration.hpp"
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
@@ -12,19 +15,25 @@
 namespace yarnfit::calibration {
 namespace {
 
+// A fit small enough for a test: 2 samples per direction in both stages, 2 threads.
+YarnFitSettings small_fit(int particles, int iterations, int local_evaluations) {
+  YarnFitSettings s;
+  s.particles = particles;
+  s.iterations = iterations;
+  s.swarm_samples = 2;
+  s.local_samples = 2;
+  s.local_evaluations = local_evaluations;
+  s.threads = 2;
+  return s;
+}
+
 TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
   const testcase::Stockinette st = testcase::load_stockinette();
   const yarn::ParameterScales& scales = st.scales;
   const SyntheticYarnResult synth = st.synthesise(yarn::default_params(scales), {db::Direction::weft}, 0.1, 3);
 
-  YarnFitSettings s;
-  s.particles = 3;
-  s.iterations = 1;
-  s.swarm_samples = 2;
-  s.local_samples = 2;
-  s.local_evaluations = 2;
-  s.threads = 2;
+  YarnFitSettings s = small_fit(3, 1, 2);
   s.objective.solve.max_iterations = 1;  // no equilibrium can converge: every evaluation fails
   for (const bool swarm : {true, false}) {
     s.swarm = swarm;
@@ -38,6 +47,35 @@ TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
     EXPECT_FALSE(j["ok"].get<bool>());
     EXPECT_TRUE(j["objective"].is_null());
   }
+}
+
+// Two ways to run the same fit: every swarm candidate simulated in full, or stopped once it
+// cannot beat its particle's best. The fits must agree to the bit, and the second must have
+// stopped some candidates (so that the comparison means something).
+TEST(YarnCalibration, StoppingSwarmCandidatesAtTheCutoffLeavesTheFitUnchanged) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const SyntheticYarnResult synth = st.synthesise(st.soft_toe_params(), {db::Direction::weft}, 0.15, 4);
+
+  YarnFitSettings s = small_fit(6, 3, 2);
+  s.bending_points = 0;
+  s.swarm_cutoff = false;
+  const YarnFitResult full = fit_yarn_params(st.yarn_tile(), synth.targets, st.scales, s);
+  s.swarm_cutoff = true;
+  const YarnFitResult cut = fit_yarn_params(st.yarn_tile(), synth.targets, st.scales, s);
+  ASSERT_TRUE(full.ok && cut.ok) << full.message << cut.message;
+  EXPECT_EQ(full.swarm_stopped, 0);
+  EXPECT_GT(cut.swarm_stopped, 0) << "no candidate stopped: the comparison tests nothing";
+  EXPECT_EQ(cut.swarm.best_value, full.swarm.best_value);
+  EXPECT_EQ(cut.swarm.best_iteration, full.swarm.best_iteration);
+  EXPECT_EQ(cut.swarm.best_particle, full.swarm.best_particle);
+  EXPECT_EQ(cut.final.value, full.final.value);
+  for (const double yarn::YarnParams::*field : {&yarn::YarnParams::ks1, &yarn::YarnParams::eps_s,
+                                                &yarn::YarnParams::kb, &yarn::YarnParams::r1, &yarn::YarnParams::kc1})
+    EXPECT_EQ(cut.params.*field, full.params.*field);
+  std::cout << "[ cutoff   ] " << cut.swarm_stopped << " of " << cut.swarm.evaluations
+            << " swarm candidates stopped; swarm " << full.seconds_swarm << " s in full, " << cut.seconds_swarm
+            << " s with stops\n";
 }
 
 }  // namespace

@@ -17,6 +17,17 @@
 namespace yarnfit::calibration {
 namespace {
 
+// Weft and warp targets over 0–15 % from the default parameters, `samples` points each, and
+// the objective on them with as many samples.
+YarnObjective weft_warp_objective(int samples) {
+  const testcase::Stockinette st = testcase::load_stockinette();
+  const SyntheticYarnResult synth =
+      st.synthesise(yarn::default_params(st.scales), {db::Direction::weft, db::Direction::warp}, 0.15, samples);
+  ObjectiveOptions oo;
+  oo.samples = samples;
+  return YarnObjective(st.yarn_tile(), synth.targets, oo);
+}
+
 TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
   const testcase::Stockinette st = testcase::load_stockinette();
@@ -98,9 +109,7 @@ TEST(YarnObjective, VanishesAtTruthAndGrowsWithPerturbedKs1) {
 TEST(YarnObjective, ErrorsAreContinuousInTheParameters) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
   const testcase::Stockinette st = testcase::load_stockinette();
-  const yarn::ParameterScales& scales = st.scales;
-  yarn::YarnParams truth = yarn::default_params(scales);
-  truth.ks1 = 0.05 * scales.ks2;
+  const yarn::YarnParams truth = st.soft_toe_params();
   const SyntheticYarnResult synth = st.synthesise(truth, {db::Direction::weft}, 0.2, 4);
   ObjectiveOptions oo;
   oo.samples = 4;
@@ -124,14 +133,8 @@ TEST(YarnObjective, ErrorsAreContinuousInTheParameters) {
 // Directions run in parallel outside the swarm: the value must not depend on the thread count.
 TEST(YarnObjective, SameValueWithOneAndTwoThreads) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
-  const testcase::Stockinette st = testcase::load_stockinette();
-  const yarn::ParameterScales& scales = st.scales;
-  const yarn::YarnParams truth = yarn::default_params(scales);
-  const SyntheticYarnResult synth = st.synthesise(truth, {db::Direction::weft, db::Direction::warp}, 0.15, 3);
-  ObjectiveOptions oo;
-  oo.samples = 3;
-  const YarnObjective objective(st.yarn_tile(), synth.targets, oo);
-  yarn::YarnParams p = truth;
+  const YarnObjective objective = weft_warp_objective(3);
+  yarn::YarnParams p = yarn::default_params(testcase::load_stockinette().scales);
   p.ks1 *= 1.5;
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
@@ -145,6 +148,47 @@ TEST(YarnObjective, SameValueWithOneAndTwoThreads) {
   EXPECT_EQ(one.newton_iterations, two.newton_iterations);
   std::cout << "[ threads  ] g = " << one.value << ": " << one.seconds << " s on 1 thread, " << two.seconds
             << " s on 2\n";
+}
+
+// The swarm's cutoff: an evaluation whose g reaches it stops early with a lower bound at or
+// above the cutoff and below g, in fewer solves; directions run serially (inside the swarm's
+// parallel region) skip the directions after a stop. A cutoff above g changes nothing.
+TEST(YarnObjective, StopsAtTheCutoffWithALowerBound) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const YarnObjective objective = weft_warp_objective(4);
+  yarn::YarnParams p = yarn::default_params(testcase::load_stockinette().scales);
+  p.ks1 *= 1.5;
+  const ObjectiveResult exact = objective.evaluate(p);
+  ASSERT_TRUE(exact.ok) << exact.message;
+  ASSERT_GT(exact.value, 0.0);
+
+  const ObjectiveResult above = objective.evaluate(p, 2.0 * exact.value);
+  EXPECT_FALSE(above.lower_bound);
+  EXPECT_EQ(above.value, exact.value);
+  EXPECT_EQ(above.solves, exact.solves);
+
+  // Reached within each direction's first samples.
+  const double cutoff = 1e-3 * exact.value;
+  const ObjectiveResult cut = objective.evaluate(p, cutoff);
+  ASSERT_TRUE(cut.ok) << cut.message;
+  EXPECT_TRUE(cut.lower_bound);
+  EXPECT_GE(cut.value, cutoff);
+  EXPECT_LT(cut.value, exact.value);
+  EXPECT_LT(cut.solves, exact.solves);
+
+  ObjectiveResult serial;
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp single
+    serial = objective.evaluate(p, cutoff);
+  }
+  ASSERT_TRUE(serial.ok) << serial.message;
+  EXPECT_TRUE(serial.lower_bound);
+  EXPECT_GE(serial.value, cutoff);
+  EXPECT_EQ(serial.directions.size(), 1u) << "the second direction runs after a stop";
+  std::cout << "[ cutoff   ] g = " << exact.value << " in " << exact.solves << " solves; cutoff " << cutoff
+            << ": bound " << cut.value << " in " << cut.solves << " solves, serially " << serial.value << " in "
+            << serial.solves << "\n";
 }
 
 TEST(YarnObjective, RejectsTargetsWithoutStretch) {
