@@ -149,9 +149,6 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
       e.solves += smp.solves;
       iterations += smp.newton_iterations;
     };
-    // Every c* search starts from the targets' compression (c*(s0) at the target's value
-    // there; later nodes at the march's) and accepts a c whose orthogonal stress is within
-    // a small fraction of the stress norm (see ObjectiveOptions::compression_stress_fraction).
     // Sample i's terms, added as soon as its c and σ are known. True once this direction's
     // partial sum reaches the cutoff: the terms are non-negative, so g does too.
     double sum_sq = 0.0, abs_comfort = 0.0, abs_full = 0.0, abs_c = 0.0;
@@ -188,6 +185,9 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
       return {};
     };
 
+    // Every c* search starts from the targets' compression (c*(s0) at the target's value
+    // there; later nodes at the march's) and accepts a c whose orthogonal stress is within
+    // a small fraction of the stress norm (see ObjectiveOptions::compression_stress_fraction).
     Eigen::VectorXd g = g_rest;
     const double c_tgt0 = interpolate_target(t.stretch, s0, &shell::UniaxialPoint::compression);
     yarn::CompressionOptions comp = m_options.compression;
