@@ -77,7 +77,7 @@ struct YarnFitResult {
   swarm::SwarmSummary swarm;        // empty history when the swarm was not run
   swarm::CobylaSummary local;
   int evaluations = 0;              // objective evaluations, both stages
-  int swarm_stopped = 0;            // swarm candidates stopped at their particle's best
+  int swarm_stopped = 0;            // swarm candidates stopped at their particle's best (after a resume: since it)
   double seconds_swarm = 0.0;
   double seconds_local = 0.0;
   double seconds_total = 0.0;
