@@ -202,14 +202,6 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
     const double c0 = first.chi.compression;
     const auto stretch_at = [&](int i) { return s0 + (s1 - s0) * static_cast<double>(i) / (n - 1); };
     const auto target_c = [&](double s) { return interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression); };
-    const int nodes = std::clamp(m_options.free_compression_every_sample ? n : m_options.compression_nodes, 2, n);
-    std::vector<int> node_index;
-    for (int k = 0; k < nodes; ++k)
-      node_index.push_back(static_cast<int>(std::lround(static_cast<double>(k) * (n - 1) / (nodes - 1))));
-    std::vector<yarn::Sample> node_sample{first};
-    std::vector<Eigen::VectorXd> march(static_cast<std::size_t>(n));
-    march[0] = g;
-
     if (m_options.free_compression_every_sample) {
       // c* at every sample, by continuation along s: each search starts from the previous
       // sample's equilibrium, at its c* moved by the targets' change of c, with a first
@@ -230,36 +222,43 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
         if (add_sample(s, smp.chi.compression, smp.stress_s)) break;
       }
       return finish_direction();
-    } else {
-      // c* at the nodes only (6.5.3: both ends), linear in between. The far nodes are reached
-      // by marching the sample stretches first, at the compression the targets' shape
-      // suggests (c*(s0) plus the targets' change of c), each solve warm from the last: a
-      // node's search then starts from a nearby equilibrium instead of from the rest state
-      // (each of its trials was a cold solve, most of an evaluation's cost).
-      std::vector<double> c_march(static_cast<std::size_t>(n), c0);
-      for (int i = 1; i < n; ++i) {
-        yarn::CoarseDeformation x = chi;
-        x.stretch = stretch_at(i);
-        x.compression = c0 + target_c(x.stretch) - c_tgt0;
-        const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
-        count(smp);
-        if (!smp.ok) return (dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
-        march[static_cast<std::size_t>(i)] = g;
-        c_march[static_cast<std::size_t>(i)] = x.compression;
-      }
-      for (int k = 1; k < nodes; ++k) {
-        const int i = node_index[static_cast<std::size_t>(k)];
-        g = march[static_cast<std::size_t>(i)];
-        yarn::CompressionOptions cs = comp;
-        cs.initial_guess = c_march[static_cast<std::size_t>(i)];
-        cs.initial_step = std::min(cs.initial_step, 0.02);
-        chi.stretch = stretch_at(i);
-        yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
-        count(smp);
-        if (!smp.ok)
-          return (dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
-        node_sample.push_back(std::move(smp));
-      }
+    }
+
+    // c* at the nodes only (6.5.3: both ends), linear in between. The far nodes are reached
+    // by marching the sample stretches first, at the compression the targets' shape
+    // suggests (c*(s0) plus the targets' change of c), each solve warm from the last: a
+    // node's search then starts from a nearby equilibrium instead of from the rest state
+    // (each of its trials was a cold solve, most of an evaluation's cost).
+    const int nodes = std::clamp(m_options.compression_nodes, 2, n);
+    std::vector<int> node_index;
+    for (int k = 0; k < nodes; ++k)
+      node_index.push_back(static_cast<int>(std::lround(static_cast<double>(k) * (n - 1) / (nodes - 1))));
+    std::vector<yarn::Sample> node_sample{first};
+    std::vector<Eigen::VectorXd> march(static_cast<std::size_t>(n));
+    march[0] = g;
+    std::vector<double> c_march(static_cast<std::size_t>(n), c0);
+    for (int i = 1; i < n; ++i) {
+      yarn::CoarseDeformation x = chi;
+      x.stretch = stretch_at(i);
+      x.compression = c0 + target_c(x.stretch) - c_tgt0;
+      const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
+      count(smp);
+      if (!smp.ok) return (dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
+      march[static_cast<std::size_t>(i)] = g;
+      c_march[static_cast<std::size_t>(i)] = x.compression;
+    }
+    for (int k = 1; k < nodes; ++k) {
+      const int i = node_index[static_cast<std::size_t>(k)];
+      g = march[static_cast<std::size_t>(i)];
+      yarn::CompressionOptions cs = comp;
+      cs.initial_guess = c_march[static_cast<std::size_t>(i)];
+      cs.initial_step = std::min(cs.initial_step, 0.02);
+      chi.stretch = stretch_at(i);
+      yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
+      count(smp);
+      if (!smp.ok)
+        return (dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
+      node_sample.push_back(std::move(smp));
     }
 
     // Samples at the interpolated compression, each warm-started from the march's state at
