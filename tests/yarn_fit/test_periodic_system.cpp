@@ -285,6 +285,38 @@ TEST_F(StockinetteSystem, RestShapeLeavesLittleCoarseStressAndKeepsRestLengthsIn
   }
 }
 
+// The period stage relaxes the normal rest stress by stretching the period, and leaves its
+// shear alone unless asked (RestShapeOptions::period_shear): the tile is soft in shear at
+// rest, and the E01 that zeroes that small stress followed every small change of it.
+TEST_F(StockinetteSystem, PeriodStageRelaxesNormalStressAndTouchesShearOnlyWhenAsked) {
+  for (const bool shear : {false, true}) {
+    YarnSystem sys(make_yarn_tile(tile), params);
+    Eigen::VectorXd rest;
+    RestShapeOptions options;
+    options.period_shear = shear;
+    const RestShapeResult r = relax_rest_shape(sys, rest, options);
+    ASSERT_TRUE(r.converged) << r.last_solve.message;
+    std::printf("period shear %s: E = (%.3f %%, %.3f %%, %.3f %%), P from (%.3g, %.3g, %.3g) to (%.3g, %.3g, %.3g) N/m\n",
+                shear ? "on " : "off", 100 * r.period_stretch(0, 0), 100 * r.period_stretch(1, 1),
+                100 * r.period_stretch(0, 1), r.stress_before_period(0, 0), r.stress_before_period(1, 1),
+                r.stress_before_period(0, 1), r.rest_stress(0, 0), r.rest_stress(1, 1), r.rest_stress(0, 1));
+    EXPECT_DOUBLE_EQ(r.period_stretch(0, 1), r.period_stretch(1, 0));
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_NE(r.period_stretch(k, k), 0.0) << "E" << k << k;
+      EXPECT_LT(std::abs(r.rest_stress(k, k)), 0.25 * std::abs(r.stress_before_period(k, k))) << "P" << k << k;
+    }
+    if (shear) {
+      EXPECT_NE(r.period_stretch(0, 1), 0.0);
+      EXPECT_LT(std::abs(r.rest_stress(0, 1)), std::abs(r.stress_before_period(0, 1)));
+    } else {
+      EXPECT_EQ(r.period_stretch(0, 1), 0.0);
+    }
+    // The tile is what the stage says: its period is the input's times (I + E).
+    const Eigen::Matrix2d expected = (Eigen::Matrix2d::Identity() + r.period_stretch) * make_yarn_tile(tile).lattice;
+    EXPECT_LT((sys.tile().lattice - expected).norm(), 1e-12 * expected.norm());
+  }
+}
+
 // Hard cases (issue 4 item 6): finite results and a converged or clearly failed solve.
 void expect_stable(const Sample& s, const std::string& label) {
   EXPECT_TRUE(std::isfinite(s.energy_density)) << label;

@@ -41,42 +41,44 @@ Eigen::Vector3d stress_coordinates(const Eigen::Matrix2d& p) {
   return {p(0, 0), p(1, 1), 0.5 * (p(0, 1) + p(1, 0))};
 }
 
-// Solves P(E) = 0 for the period stretch E by chord Newton with a finite-difference ∂P/∂E
+// Solves P(E) = 0 for the period stretch E by chord Newton with a forward-difference ∂P/∂E
 // taken once at E = 0. Each evaluation re-equilibrates the tile at χ = 0 from the current g.
+// Unknowns: E00 and E11, and E01 only with `period_shear` (see RestShapeOptions).
 void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions& options,
                   RestShapeResult& out) {
   const YarnTile base = system.tile();
-  const auto evaluate = [&](const Eigen::Vector3d& e, Eigen::VectorXd& state, EquilibriumResult& solve) {
-    system.set_tile(transformed_tile(base, Eigen::Matrix2d::Identity() + strain_of(e)));
+  const int n = options.period_shear ? 3 : 2;
+  const auto strain = [&](const Eigen::VectorXd& e) {
+    Eigen::Vector3d full = Eigen::Vector3d::Zero();
+    full.head(n) = e;
+    return strain_of(full);
+  };
+  const auto evaluate = [&](const Eigen::VectorXd& e, Eigen::VectorXd& state, EquilibriumResult& solve) {
+    system.set_tile(transformed_tile(base, Eigen::Matrix2d::Identity() + strain(e)));
     system.set_deformation(CoarseDeformation{});
     solve = solve_equilibrium(system, state, options.solve);
     out.newton_iterations += solve.iterations;
-    return stress_coordinates(system.coarse_stress(state));
+    return Eigen::VectorXd(stress_coordinates(system.coarse_stress(state)).head(n));
   };
-  const Eigen::Vector3d p0 = stress_coordinates(out.rest_stress);
-  constexpr double h = 1e-3;
-  Eigen::Matrix3d jacobian;
-  for (int k = 0; k < 3; ++k) {
-    Eigen::VectorXd state = g;
-    EquilibriumResult solve;
-    const Eigen::Vector3d pk = evaluate(h * Eigen::Vector3d::Unit(k), state, solve);
-    if (!solve.converged) {
-      system.set_tile(base);
-      system.set_deformation(CoarseDeformation{});
-      return;  // keep the heuristic's state; rest_stress reports what is left
-    }
-    jacobian.col(k) = (pk - p0) / h;
-  }
-  const Eigen::FullPivLU<Eigen::Matrix3d> lu(jacobian);
-  if (!lu.isInvertible()) {
+  const auto restore_base = [&] {  // keep the rounds' state; rest_stress says what is left
     system.set_tile(base);
     system.set_deformation(CoarseDeformation{});
-    return;
+  };
+  const Eigen::VectorXd p0 = stress_coordinates(out.rest_stress).head(n);
+  constexpr double h = 1e-3;
+  Eigen::MatrixXd jacobian(n, n);
+  for (int k = 0; k < n; ++k) {
+    Eigen::VectorXd state = g;
+    EquilibriumResult solve;
+    const Eigen::VectorXd pk = evaluate(h * Eigen::VectorXd::Unit(n, k), state, solve);
+    if (!solve.converged) return restore_base();
+    jacobian.col(k) = (pk - p0) / h;
   }
-  Eigen::Vector3d e = Eigen::Vector3d::Zero(), p = p0;
-  Eigen::VectorXd best_g = g;
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(jacobian);
+  if (!lu.isInvertible()) return restore_base();
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), p = p0;
+  Eigen::VectorXd best_g = g, best_e = e;
   double best = p0.cwiseAbs().maxCoeff();
-  Eigen::Vector3d best_e = e;
   EquilibriumResult best_solve = out.last_solve;
   for (int it = 0; it < options.period_iterations; ++it) {
     e = (e - lu.solve(p)).cwiseMax(-options.max_period_change).cwiseMin(options.max_period_change);
@@ -91,11 +93,11 @@ void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions
       best_solve = solve;
     }
   }
-  system.set_tile(transformed_tile(base, Eigen::Matrix2d::Identity() + strain_of(best_e)));
+  system.set_tile(transformed_tile(base, Eigen::Matrix2d::Identity() + strain(best_e)));
   system.set_deformation(CoarseDeformation{});
   g = best_g;
   out.last_solve = best_solve;
-  out.period_stretch = strain_of(best_e);
+  out.period_stretch = strain(best_e);
   out.rest_stress = system.coarse_stress(g);
 }
 
