@@ -30,7 +30,7 @@ struct RestShapeOptions {
   // 12 % instead of 9 % on the stockinette tile).
   double over_relaxation = 1.0;
   // Final stage: adjust the tile's period by a small symmetric in-plane stretch (I + E) so
-  // that the coarse stress at χ = 0 vanishes. The resets cannot remove the stress carried by
+  // that the coarse normal stress at χ = 0 nearly vanishes (the shear: see period_shear). The resets cannot remove the stress carried by
   // contacts, and each further round loosens the tile while the ratio of the rest stress to
   // the stress at 10 % stretch stays near 5 %; a stress-free rest state is what the fit
   // compares the targets against (a fabric at rest carries no stress).
