@@ -43,7 +43,7 @@ struct Problem {
 //    above the yarns' strains leaves ε̄s unidentified (at ε̄s = 6 %, the first choice here,
 //    the fit moved it by +63 % with g unchanged).
 //  * plated: a softer phase ks1 = 0.01 ks2 (a plated, elastane-like yarn) up to ε̄s = 1 %,
-//    reached at about 20–25 % stretch in every direction. Softer still (0.005 ks2) the tile
+//    reached at about 20–25 % stretch in every direction (c = 0). Softer still (0.005 ks2) the tile
 //    is slack across at rest and the synthetic bias targets fail at s = 0 (the compression
 //    search creeps along a mechanism).
 // The profile printed by `recovery` shows how well the data pin each parameter.
