@@ -30,10 +30,11 @@ struct RestShapeOptions {
   // 12 % instead of 9 % on the stockinette tile).
   double over_relaxation = 1.0;
   // Final stage: adjust the tile's period by a small symmetric in-plane stretch (I + E) so
-  // that the coarse normal stress at χ = 0 nearly vanishes (the shear: see period_shear). The resets cannot remove the stress carried by
-  // contacts, and each further round loosens the tile while the ratio of the rest stress to
-  // the stress at 10 % stretch stays near 5 %; a stress-free rest state is what the fit
-  // compares the targets against (a fabric at rest carries no stress).
+  // that the coarse normal stress at χ = 0 nearly vanishes (the shear: see period_shear).
+  // The resets cannot remove the stress carried by contacts, and each further round loosens
+  // the tile while the ratio of the rest stress to the stress at 10 % stretch stays near 5 %;
+  // a nearly stress-free rest state is what the fit compares the targets against (a fabric
+  // at rest carries no stress).
   bool relax_period = true;
   double max_period_change = 0.1;  // |E_ij| ≤ this
   // Chord-Newton steps on P(E) = 0 (after 2 solves, 3 with shear, for ∂P/∂E). Four steps
