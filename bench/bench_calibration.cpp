@@ -10,7 +10,9 @@
 //                               [--local-evaluations N] [--threads T] [--shared DIR]
 //                               [--settings K]   (settings mode: the first K rows of its table)
 //                               [--first-setting K]   (settings mode: start at row K, from 1)
-//                               [--truth toe|plated]   (the known parameters: see make_problem)
+//                               [--truth toe|plated|KS1,EPS_S[,KC1]]   (the known parameters:
+//                               see make_problem; KS1 in ks2, KC1 in kc_base, e.g. 0.2,0.004)
+//                               [--max-stretch S]   (targets over 0..S, 1 % apart; default 0.3)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -46,10 +48,16 @@ struct Problem {
 //    reached at about 20–25 % stretch in every direction (c = 0). Softer still (0.005 ks2) the tile
 //    is slack across at rest and the synthetic bias targets fail at s = 0 (the compression
 //    search creeps along a mechanism).
-// The profile printed by `recovery` shows how well the data pin each parameter.
+// The profile printed by `recovery` and `profile` shows how well the data pin each parameter.
+// Other truths, by `profile` (g with one parameter ×0.9 / ×1.1 over g at the truth):
+//  * a stiffer soft phase carrying the load, 0.2,0.004 and 0.3,0.003: ks1 1 / 1×, ε̄s 1 / 1×
+//    (the yarns' stretch is in series with the far softer loops: its stiffness hardly shows);
+//  * stiffer contact, 0.02,0.005,20: ks1 1 / 1×, ε̄s 1 / 1×, kc1 2 / 2×;
+//  * the toe truth stretched to 50 %: ks1 2 / 3×, ε̄s 3 / 4×, kb 65 / 48×, kc1 63 / 46×.
+// R1 stays at 400–19000× in all of them.
 // 31 target points (1 % apart) keep the linear interpolation of the targets between
 // samples well below the fit's errors.
-Problem make_problem(const std::string& shared, const std::string& truth) {
+Problem make_problem(const std::string& shared, const std::string& truth, double max_stretch) {
   db::Problems problems;
   const auto tile = db::read_pyp(shared + "/data/patterns/stockinette.pyp", problems);
   if (!tile) throw std::runtime_error(problems.to_string());
@@ -57,6 +65,7 @@ Problem make_problem(const std::string& shared, const std::string& truth) {
   p.tile = *tile;
   p.scales = {400.0, db::compute_tile_facts(*tile).r_est};
   p.truth = yarn::default_params(p.scales);
+  double kc1_in_base = 2.0;
   if (truth == "plated") {
     p.truth.ks1 = 0.01 * p.scales.ks2;
     p.truth.eps_s = 0.01;
@@ -64,19 +73,28 @@ Problem make_problem(const std::string& shared, const std::string& truth) {
     p.truth.ks1 = 0.05 * p.scales.ks2;
     p.truth.eps_s = 0.005;
   } else {
-    throw std::invalid_argument("--truth: expected toe or plated, got " + truth);
+    double ks1_fraction = 0, eps_s = 0, kc1_factor = 2.0;
+    char tail = 0;
+    const int read = std::sscanf(truth.c_str(), "%lf,%lf,%lf%c", &ks1_fraction, &eps_s, &kc1_factor, &tail);
+    if ((read != 2 && read != 3) || !(ks1_fraction > 0) || !(eps_s >= 0) || !(kc1_factor > 0))
+      throw std::invalid_argument("--truth: expected toe, plated or KS1,EPS_S[,KC1] (ks1 as a fraction of ks2 > 0, "
+                                  "eps_s >= 0, kc1 in kc_base > 0, default 2), got " + truth);
+    p.truth.ks1 = ks1_fraction * p.scales.ks2;
+    p.truth.eps_s = eps_s;
+    kc1_in_base = kc1_factor;
   }
   p.truth.kb = 0.2 * p.scales.kb_base();
   p.truth.r1 = 0.9 * p.scales.r_est;
-  p.truth.kc1 = 2.0 * p.scales.kc_base();
+  p.truth.kc1 = kc1_in_base * p.scales.kc_base();
   calibration::SyntheticYarnOptions so;
-  so.max_stretch = 0.3;
-  so.points = 31;
+  so.max_stretch = max_stretch;
+  so.points = static_cast<int>(std::lround(max_stretch / 0.01)) + 1;
   const auto synth = calibration::simulate_yarn_targets(p.tile, p.truth, so);
   p.targets = synth.targets;
-  std::printf("targets: stockinette, %s truth (ks1 %.4g ks2, eps_s %.4g), weft/bias/warp 0-30 %%, %d points each, "
-              "simulated in %.1f s\n",
-              truth.c_str(), p.truth.ks1 / p.scales.ks2, p.truth.eps_s, so.points, synth.seconds);
+  std::printf("targets: stockinette, %s truth (ks1 %.4g ks2, eps_s %.4g, kc1 %.4g kc_base), weft/bias/warp 0-%.0f %%, "
+              "%d points each, simulated in %.1f s\n",
+              truth.c_str(), p.truth.ks1 / p.scales.ks2, p.truth.eps_s, kc1_in_base, 100.0 * max_stretch, so.points,
+              synth.seconds);
   return p;
 }
 
@@ -112,6 +130,15 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
   row("kb", r.params.kb, p.truth.kb);
   row("R1", r.params.r1, p.truth.r1);
   row("kc1", r.params.kc1, p.truth.kc1);
+  if (!r.profile.computed) return;
+  // What the fit itself reports about each parameter (parameter_profile.hpp): how far the
+  // truth lies from the fit against the range the targets leave open.
+  std::printf("    identifiability at the fit (g %.4g): g at /%.2f and x%.2f; range (x/÷) before g doubles, others "
+              "re-fitted / held\n",
+              r.profile.g_fit, 1.0 + r.profile.step, 1.0 + r.profile.step);
+  for (const auto& entry : r.profile.entries)
+    std::printf("    %-6s g %.4g / %.4g   range %.4g / %.4g\n", entry.name.c_str(), entry.g_lower, entry.g_upper,
+                entry.range_factor, entry.range_alone_factor);
 }
 
 calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s) {
@@ -136,6 +163,7 @@ int main(int argc, char** argv) {
   int setting_count = 4;  // `settings` mode: how many rows of the table to run
   int first_setting = 1;  // and from which (1-based)
   std::string truth = "toe";
+  double max_stretch = 0.3;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     const char* value = argv[i + 1];
@@ -148,13 +176,14 @@ int main(int argc, char** argv) {
     else if (key == "--settings") setting_count = std::atoi(value);
     else if (key == "--first-setting") first_setting = std::atoi(value);
     else if (key == "--truth") truth = value;
+    else if (key == "--max-stretch") max_stretch = std::atof(value);
     else {
       std::fprintf(stderr, "bench_calibration: unknown option %s\n", key.c_str());
       return 2;
     }
   }
   try {
-    const Problem p = make_problem(shared, truth);
+    const Problem p = make_problem(shared, truth, max_stretch);
     if (mode == "recovery" || mode == "profile") {
       std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), %d COBYLA evaluations\n",
                   base.particles, base.iterations, base.swarm_samples, base.local_samples, base.local_evaluations);

@@ -59,7 +59,7 @@ struct YarnFitArgs {
   std::uint64_t seed = defaults.seed;
   int threads = 0;
   int compression_nodes = defaults.local_compression_nodes;
-  bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false;
+  bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false, no_profile = false;
   bool quiet = false, force = false;
   // `fit` only: the shell stage.
   double mesh_mm = 5.0;
@@ -130,6 +130,7 @@ calibration::YarnFitSettings settings_from(const YarnFitArgs& a) {
   s.swarm = !a.no_swarm;
   s.linear_stretch = a.linear_stretch;
   s.rest_shape = !a.no_rest_shape;
+  if (a.no_profile) s.profile_step = 0.0;
   s.swarm_compression_nodes = a.compression_nodes;
   s.local_compression_nodes = a.compression_nodes;
   s.checkpoint = a.checkpoint;
@@ -201,6 +202,43 @@ std::string yarn_curves_csv(const calibration::ObjectiveResult& final) {
   return csv.str();
 }
 
+// A range factor f as the user reads it: "±4.2 %" when small, "÷/× 3.1" when not.
+std::string range(double f) {
+  if (std::isnan(f)) return "-";
+  if (std::isinf(f)) return "unbounded";
+  if (f > 100.0) return "÷/× > 100";
+  return f < 1.5 ? "±" + db::format_g(100.0 * (f - 1.0), 2) + " %" : "÷/× " + db::format_g(f, 2);
+}
+
+// Which fitted values the targets stand behind (parameter_profile.hpp).
+std::string profile_summary(const calibration::ParameterProfile& p) {
+  if (p.step == 0.0) return {};
+  std::ostringstream out;
+  if (!p.computed) {
+    out << "  identifiability: not computed (" << p.message << ")\n";
+    return out.str();
+  }
+  const std::string f = db::format_g(1.0 + p.step, 3);
+  out << "  identifiability (g = " << db::format_g(p.g_fit, 3)
+      << " at the fit; range: how far a parameter moves before g doubles):\n"
+      << "    parameter  g at ÷" << f << " / ×" << f << "    range, others re-fitted   others held\n";
+  std::string downhill;
+  for (const auto& e : p.entries) {
+    const std::string g = db::format_g(e.g_lower, 3) + " / " + db::format_g(e.g_upper, 3);
+    out << "    " << std::left << std::setw(9) << e.name << "  " << std::setw(22) << g << std::right << std::setw(19)
+        << range(e.range_factor) << std::setw(16) << range(e.range_alone_factor) << "\n";
+    if (std::min(e.g_lower, e.g_upper) < 0.99 * p.g_fit) downhill += (downhill.empty() ? "" : ", ") + e.name;
+  }
+  out << "    a range wider than the accuracy you need: the targets do not pin that parameter, and its value is one "
+         "of many that fit as well\n";
+  // The ranges assume the fit is a minimum; where a 10 % step lowers g it is not.
+  if (!downhill.empty())
+    out << "    g falls by more than 1 % with " << downhill
+        << " moved: the fit is not at a minimum there (ranges are rough; more --local-evaluations may help)\n";
+  if (!p.message.empty()) out << "    incomplete: " << p.message << "\n";
+  return out.str();
+}
+
 // The human-readable part on the yarn fit: errors per direction, parameters with bounds and
 // on-bound flags, time per stage.
 std::string yarn_summary(const calibration::YarnFitResult& r, const calibration::YarnFitSettings& s,
@@ -248,9 +286,11 @@ std::string yarn_summary(const calibration::YarnFitResult& r, const calibration:
     if (!optimised && j.contains(k)) out << "    " << std::left << std::setw(6) << k << std::right << " = " << std::setw(12)
                                          << db::format_g(j[k].get<double>(), 5) << "   fixed\n";
   }
+  out << profile_summary(r.profile);
   out << "  evaluations: " << r.evaluations << "\n";
   out << "  time: swarm " << db::format_g(r.seconds_swarm, 3) << " s, local " << db::format_g(r.seconds_local, 3)
-      << " s, total " << db::format_g(r.seconds_total, 3) << " s\n";
+      << " s" << (r.profile.computed ? ", profile " + db::format_g(r.profile.seconds, 3) + " s" : std::string())
+      << ", total " << db::format_g(r.seconds_total, 3) << " s\n";
   if (!r.swarm.history.empty())
     out << "  swarm: " << r.swarm.brief_report() << "; " << r.swarm_stopped
         << " candidates stopped once they could not beat their particle's best\n";
@@ -510,6 +550,9 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
   cmd.add_flag("--no-swarm", a.no_swarm, "COBYLA alone from the middle of the bounds (ablation, Fig. 6.17)");
   cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");
   cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.11)");
+  cmd.add_flag("--no-profile", a.no_profile,
+               "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "
+               "evaluations per parameter)");
   cmd.add_flag("-q,--quiet", a.quiet, "No progress or summary on the terminal");
   cmd.add_flag("--force", a.force, "Replace existing output files in the folder");
 }

@@ -42,6 +42,7 @@ std::string YarnFitSettings::invalid_reason() const {
   if (!(local_initial_step > 0.0 && local_initial_step <= 1.0)) return "local_initial_step: must be in (0, 1]";
   if (threads < 0) return "threads: must not be negative";
   if (bending_points != 0 && bending_points < 2) return "bending_points: must be 0 (no check) or at least 2";
+  if (!(profile_step >= 0.0 && profile_step < 1.0)) return "profile_step: must be in [0, 1) (0: no profile)";
   if (resume && checkpoint.empty()) return "resume: needs a checkpoint file";
   return {};
 }
@@ -191,6 +192,13 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
   if (!out.ok) out.message = "the best parameters failed on re-evaluation: " + out.final.message;
   if (out.ok && settings.bending_points > 0)
     out.bending = check_bending(tile, targets, out.params, fine.options(), settings.bending_points);
+  if (out.ok && settings.profile_step > 0.0) {
+    out.profile = profile_parameters(
+        fine, space, best, out.final,
+        [&](const Eigen::VectorXd& x) { return params_from_point(x, scales, settings.linear_stretch); },
+        settings.profile_step, settings.threads);
+    out.evaluations += out.profile.evaluations;
+  }
   out.seconds_total = seconds_since(start);
   return out;
 }
@@ -247,7 +255,9 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
   j["timing_s"] = {{"swarm", r.seconds_swarm},
                    {"local", r.seconds_local},
                    {"bending_check", r.bending.seconds},
+                   {"profile", r.profile.seconds},
                    {"total", r.seconds_total}};
+  if (settings.profile_step > 0.0) j["identifiability"] = to_json(r.profile);
   j["settings"] = {
       {"particles", settings.swarm ? settings.particles : 0},
       {"iterations", settings.swarm ? settings.iterations : 0},
@@ -261,6 +271,7 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"linear_stretch", settings.linear_stretch},
       {"rest_shape", settings.rest_shape},
       {"bending_points", settings.bending_points},
+      {"profile_step", settings.profile_step},
       {"swarm_cutoff", settings.swarm_cutoff},
   };
   if (settings.swarm) {

@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "calibration/fit/parameter_profile.hpp"
 #include "calibration/objective/bending_check.hpp"
 #include "calibration/objective/yarn_objective.hpp"
 #include "swarm/cobyla.hpp"
@@ -59,6 +60,10 @@ struct YarnFitSettings {
   // Curvatures per direction at which the fitted model is bent for the bending error
   // (bending_check.hpp; only directions with bending targets); 0 skips the check.
   int bending_points = 5;
+  // How sharply the targets determine each fitted parameter (parameter_profile.hpp): the
+  // local objective with each parameter moved by this relative step both ways around the
+  // fit, 2 evaluations per parameter; 0 skips it (--no-profile).
+  double profile_step = 0.1;
   ObjectiveOptions objective;        // samples and rest_shape are set from the fields above
   // Progress per swarm iteration and per local evaluation: stage ("swarm", "local"), step,
   // steps planned, best objective so far, seconds since the start.
@@ -74,6 +79,7 @@ struct YarnFitResult {
   ObjectiveResult final;            // the best re-evaluated with local_samples per direction
   std::vector<std::string> on_bound;  // fitted parameters within 1e-3 of a bound (unit cube)
   BendingCheck bending;             // the fitted model against the bending targets (not fitted)
+  ParameterProfile profile;         // how sharply the targets pin each fitted parameter
   swarm::SwarmSummary swarm;        // empty history when the swarm was not run
   swarm::CobylaSummary local;
   int evaluations = 0;              // objective evaluations, both stages
@@ -98,7 +104,8 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
 // yarn_fit.json (SPEC §5): params {ks1, eps_s, kb, R1, kc1, ks2, kc2, R2}, errors
 // {stress_comfort_pct, stress_full_pct, compression_pct, bending_pct (null without bending
 // targets or when the check was skipped or failed)},
-// evaluations, timing_s, plus per-direction errors, on_bound, settings and stage summaries.
+// evaluations, timing_s, plus per-direction errors, on_bound, identifiability (the parameter
+// profile), settings and stage summaries.
 nlohmann::json to_json(const YarnFitResult& result, const YarnFitSettings& settings);
 
 }  // namespace yarnfit::calibration

@@ -26,6 +26,14 @@
 // The thesis sums the terms; the mean over samples (same minimiser) keeps 7- and 20-sample
 // values comparable.
 //
+// Warm starts: every solve after the first starts from the previous one (stretch samples,
+// c* searches), but every candidate's rest shape starts from the tile as read, never from an
+// earlier candidate's state. The heuristic settles in one of several nearby equilibria
+// depending on where it starts, so a warm start from a particle's previous position would
+// make g depend on the swarm's history, not on p alone: the same p would score differently
+// in two runs with different histories, and the swarm's cutoff, its resume and the local
+// step all rely on g being a function of p.
+//
 // Reported errors (SPEC §3 "Error metrics", Fig. 6.15): mean absolute error divided by the
 // largest comfort-range target, in percent: stress over the comfort-range samples, stress
 // over all samples, compression over all samples.

@@ -95,7 +95,16 @@ TEST_F(FitCli, YarnFitWritesTheSpecifiedJsonCurvesAndSummary) {
     EXPECT_TRUE(j["errors"][k].is_number()) << k;
   }
   EXPECT_TRUE(j["errors"].contains("bending_pct"));
-  EXPECT_EQ(j["evaluations"].get<int>(), 4 * 2 + j["local"]["evaluations"].get<int>() + 1);
+  // Swarm, local step, the final evaluation, and the identifiability profile: 2 per parameter.
+  ASSERT_TRUE(j.contains("identifiability"));
+  EXPECT_TRUE(j["identifiability"]["computed"].get<bool>()) << j["identifiability"].dump();
+  EXPECT_EQ(j["identifiability"]["evaluations"].get<int>(), 2 * 5);
+  for (const char* k : {"ks1", "eps_s", "kb", "R1", "kc1"}) {
+    const json& e = j["identifiability"]["parameters"][k];
+    EXPECT_EQ(e["value"].get<double>(), j["params"][k].get<double>()) << k;
+    EXPECT_TRUE(e.contains("range_factor") && e.contains("range_alone_factor") && e.contains("free")) << k;
+  }
+  EXPECT_EQ(j["evaluations"].get<int>(), 4 * 2 + j["local"]["evaluations"].get<int>() + 1 + 2 * 5);
   EXPECT_LE(j["local"]["evaluations"].get<int>(), 5);
   // Iteration 1 has no particle bests to stop at; iteration 2 may stop any of its 4.
   ASSERT_TRUE(j["swarm"]["stopped_at_cutoff"].is_number_integer());
@@ -115,7 +124,8 @@ TEST_F(FitCli, YarnFitWritesTheSpecifiedJsonCurvesAndSummary) {
 
   const std::string summary = read_file(out / "yarn_summary.txt");
   for (const char* expected : {"weft", "stress comfort", "ks1", "eps_s", "kb", "R1", "kc1", "in [", "swarm", "local",
-                               "time: swarm", "c* at every sample", "stopped once they could not beat"})
+                               "time: swarm", "c* at every sample", "stopped once they could not beat",
+                               "identifiability", "before g doubles", "others re-fitted", ", profile "})
     EXPECT_NE(summary.find(expected), std::string::npos) << expected << "\n" << summary;
 }
 
@@ -218,7 +228,8 @@ TEST_F(FitCli, BadOrMissingTargetsExit2NamingTheFile) {
 TEST_F(FitCli, FitRunsShellThenYarnAndWritesBothStagesAndASummary) {
   const fs::path out = *s_dir / "pipeline";
   const std::string args = "fit " + quoted(fabric()) + " --out " + quoted(out) +
-                           " --particles 2 --iterations 1 --samples 2 --local-samples 4 --local-evaluations 2 --threads 2";
+                           " --particles 2 --iterations 1 --samples 2 --local-samples 4 --local-evaluations 2 --threads 2"
+                           " --no-profile";
   auto r = run_cli(args);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("shell fit of synthetic_yarn"), std::string::npos) << r.out;  // the shell command's own report
@@ -236,6 +247,8 @@ TEST_F(FitCli, FitRunsShellThenYarnAndWritesBothStagesAndASummary) {
   EXPECT_TRUE(yarn["errors"]["bending_pct"].is_null());
   EXPECT_FALSE(yarn.contains("bending_check"));
   EXPECT_LT(yarn["timing_s"]["bending_check"].get<double>(), 0.01);  // returned at once
+  EXPECT_FALSE(yarn.contains("identifiability"));                      // --no-profile
+  EXPECT_EQ(yarn["timing_s"]["profile"].get<double>(), 0.0);
 
   const auto shell_csv = lines_of(read_file(out / "shell_curves.csv"));
   ASSERT_GE(shell_csv.size(), 2u);
