@@ -3,11 +3,13 @@
 //   recovery   the profile, then targets simulated from known parameters on the stockinette tile (../shared),
 //              fitted back: true vs fitted parameters, errors, time per stage
 //   ablations  the same targets fitted without the swarm, with linear stretch (ks1 = ks2,
-//              ε̄s = 0) and without the rest-shape heuristic (thesis Fig. 6.11, 6.16, 6.17)
+//              ε̄s = 0) and without the rest-shape heuristic (thesis Fig. 6.11, 6.16, 6.17),
+//              and with the other local step (COBYLA, the thesis's, or implicit filtering)
 //   settings   error, recovered parameters and time for particles × iterations × samples
 //              settings: three cheaper-to-default rows, then the default with more iterations
 // Usage: bench_calibration MODE [--particles N] [--iterations N] [--samples N]
-//                               [--local-evaluations N] [--threads T] [--shared DIR]
+//                               [--local-evaluations N] [--local-method implicit-filtering|cobyla]
+//                               [--threads T] [--shared DIR]
 //                               [--settings K]   (settings mode: the first K rows of its table)
 //                               [--first-setting K]   (settings mode: start at row K, from 1)
 //                               [--truth toe|plated|KS1,EPS_S[,KC1]]   (the known parameters:
@@ -116,6 +118,8 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
     std::printf("    %-5s comfort %6.2f %%  full %6.2f %%  compression %6.2f %%\n",
                 std::string(db::to_string(d.scale.direction)).c_str(), d.stress_comfort_pct, d.stress_full_pct,
                 d.compression_pct);
+  if (!r.swarm.history.empty()) std::printf("    swarm: %s\n", r.swarm.brief_report().c_str());
+  if (r.local.ran) std::printf("    local: %s\n", r.local.report.c_str());
   if (!r.on_bound.empty()) {
     std::printf("    on a bound:");
     for (const auto& n : r.on_bound) std::printf(" %s", n.c_str());
@@ -171,6 +175,14 @@ int main(int argc, char** argv) {
     else if (key == "--iterations") base.iterations = std::atoi(value);
     else if (key == "--samples") base.swarm_samples = std::atoi(value);
     else if (key == "--local-evaluations") base.local_evaluations = std::atoi(value);
+    else if (key == "--local-method") {
+      const auto m = calibration::local_method_from_string(value);
+      if (!m) {
+        std::fprintf(stderr, "bench_calibration: --local-method: expected implicit-filtering or cobyla, got %s\n", value);
+        return 2;
+      }
+      base.local_method = *m;
+    }
     else if (key == "--threads") base.threads = std::atoi(value);
     else if (key == "--shared") shared = value;
     else if (key == "--settings") setting_count = std::atoi(value);
@@ -185,8 +197,10 @@ int main(int argc, char** argv) {
   try {
     const Problem p = make_problem(shared, truth, max_stretch);
     if (mode == "recovery" || mode == "profile") {
-      std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), %d COBYLA evaluations\n",
-                  base.particles, base.iterations, base.swarm_samples, base.local_samples, base.local_evaluations);
+      std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), local step %s, at most %d "
+                  "evaluations\n",
+                  base.particles, base.iterations, base.swarm_samples, base.local_samples,
+                  calibration::to_string(base.local_method), base.local_evaluations);
       // The local step's objective at the true parameters: what a perfect optimiser reaches.
       calibration::ObjectiveOptions lo = base.objective;
       lo.samples = base.local_samples;
@@ -231,6 +245,11 @@ int main(int argc, char** argv) {
       s = base;
       s.rest_shape = false;
       print_fit("no rest shape", p, run(p, s), true);
+      s = base;
+      s.local_method = base.local_method == calibration::LocalMethod::cobyla ? calibration::LocalMethod::implicit_filtering
+                                                                             : calibration::LocalMethod::cobyla;
+      const std::string other = std::string("local step ") + calibration::to_string(s.local_method);
+      print_fit(other.c_str(), p, run(p, s), true);
     } else if (mode == "settings") {
       struct Setting {
         int particles, iterations, samples;
@@ -238,9 +257,9 @@ int main(int argc, char** argv) {
       // The fourth row: the default swarm run longer (the recovery's ks1 needs the swarm to
       // land near the truth; the local step does not travel far on this objective).
       const std::vector<Setting> table{{16, 4, 4}, {32, 6, 5}, {64, 10, 7}, {64, 16, 7}};
-      std::printf("settings table: particles x iterations x samples (swarm); local step %d samples, %d COBYLA "
+      std::printf("settings table: particles x iterations x samples (swarm); local step %s, %d samples, at most %d "
                   "evaluations\n",
-                  base.local_samples, base.local_evaluations);
+                  calibration::to_string(base.local_method), base.local_samples, base.local_evaluations);
       for (int row = std::max(first_setting, 1) - 1; row < std::min<int>(setting_count, static_cast<int>(table.size()));
            ++row) {
         const Setting& st = table[static_cast<std::size_t>(row)];

@@ -49,13 +49,14 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 struct YarnFitArgs {
-  std::string fabric, targets, out, checkpoint;
+  std::string fabric, targets, out, checkpoint, start;
   calibration::YarnFitSettings defaults;
   int particles = defaults.particles;
   int iterations = defaults.iterations;
   int samples = defaults.swarm_samples;
   int local_samples = defaults.local_samples;
   int local_evaluations = defaults.local_evaluations;
+  std::string local_method = calibration::to_string(defaults.local_method);
   std::uint64_t seed = defaults.seed;
   int threads = 0;
   int compression_nodes = defaults.local_compression_nodes;
@@ -70,7 +71,26 @@ struct YarnInputs {
   db::Fabric fabric;
   yarn::YarnTile tile;
   yarn::ParameterScales scales;
+  std::optional<yarn::YarnParams> start;  // --start
 };
+
+// --start FILE: the parameters the local step starts from, their optimised values inside
+// the search bounds (the fixed ks2, kc2, R2 always come from the fabric).
+void load_start(const YarnFitArgs& a, YarnInputs& in, std::vector<std::string>& problems) {
+  if (a.start.empty()) return;
+  db::Problems found;
+  in.start = yarn::read_yarn_params(a.start, in.scales, found);
+  for (const auto& p : found.items()) problems.push_back(p.to_string());
+  if (!in.start) return;
+  const auto space = calibration::yarn_parameter_space(in.scales, a.linear_stretch);
+  const Eigen::VectorXd x = calibration::point_from_params(*in.start, a.linear_stretch);
+  for (int i = 0; i < space.dimension(); ++i) {
+    const auto& q = space.parameter(i);
+    if (!(x[i] >= q.lower && x[i] <= q.upper))
+      problems.push_back(a.start + ": " + q.name + ": " + db::format_g(x[i]) + " is outside the search bounds [" +
+                         db::format_g(q.lower) + ", " + db::format_g(q.upper) + "] of this fabric");
+  }
+}
 
 // Loads FABRIC and checks that it can be yarn-fitted: every problem is one line in `problems`.
 std::optional<YarnInputs> load_yarn_inputs(const std::string& folder, std::vector<std::string>& problems) {
@@ -89,7 +109,7 @@ std::optional<YarnInputs> load_yarn_inputs(const std::string& folder, std::vecto
     problems.push_back(yaml + ": yarns.stiffness_N: missing; a yarn fit needs the stiffest yarn's stretch stiffness "
                               "(sets ks2, SPEC §3)");
   if (!problems.empty()) return std::nullopt;
-  YarnInputs in{fabric, {}, {*stiffness, fabric.pattern->facts.r_est}};
+  YarnInputs in{fabric, {}, {*stiffness, fabric.pattern->facts.r_est}, std::nullopt};
   try {
     in.tile = yarn::make_yarn_tile(fabric.pattern->tile);
   } catch (const std::exception& e) {
@@ -125,6 +145,7 @@ calibration::YarnFitSettings settings_from(const YarnFitArgs& a) {
   s.swarm_samples = a.samples;
   s.local_samples = a.local_samples;
   s.local_evaluations = a.local_evaluations;
+  s.local_method = calibration::local_method_from_string(a.local_method).value_or(s.local_method);
   s.seed = a.seed;
   s.threads = a.threads;
   s.swarm = !a.no_swarm;
@@ -251,8 +272,9 @@ std::string yarn_summary(const calibration::YarnFitResult& r, const calibration:
   const int iterations = resumed ? r.swarm.settings.iterations : s.iterations;
   out << "  settings: " << (s.swarm ? std::to_string(particles) + " particles x " + std::to_string(iterations) +
                                           " iterations, " + std::to_string(s.swarm_samples) + " samples per direction; "
-                                    : std::string("no swarm; "))
-      << "local step " << s.local_evaluations << " evaluations, " << s.local_samples << " samples per direction; seed "
+                                    : std::string(s.start ? "no swarm, started from --start; " : "no swarm; "))
+      << "local step " << calibration::to_string(s.local_method) << ", at most " << s.local_evaluations
+      << " evaluations, " << s.local_samples << " samples per direction; seed "
       << s.seed << (s.linear_stretch ? "; linear stretch (ks1 = ks2, eps_s = 0)" : "")
       << (s.rest_shape ? "" : "; no rest-shape heuristic")
       << (s.local_compression_nodes == 0
@@ -294,7 +316,7 @@ std::string yarn_summary(const calibration::YarnFitResult& r, const calibration:
   if (!r.swarm.history.empty())
     out << "  swarm: " << r.swarm.brief_report() << "; " << r.swarm_stopped
         << " candidates stopped once they could not beat their particle's best\n";
-  out << "  local: " << r.local.brief_report() << "\n";
+  if (r.local.ran) out << "  local: " << r.local.report << "\n";
   return out.str();
 }
 
@@ -310,6 +332,10 @@ YarnStage run_yarn_stage(const YarnInputs& in, const YarnFitArgs& a,
                          const std::string& summary_file) {
   YarnStage stage;
   calibration::YarnFitSettings settings = settings_from(a);
+  if (in.start) {
+    settings.start = in.start;
+    settings.swarm = false;
+  }
   if (const auto why = settings.invalid_reason(); !why.empty()) {
     std::cerr << "yarn fit settings: " << why << "\n";
     stage.exit_code = k_exit_invalid_input;
@@ -366,7 +392,8 @@ const std::vector<std::string> k_yarn_outputs{"yarn_fit.json", "yarn_curves.csv"
 
 int run_yarn_fit(const YarnFitArgs& a) {
   std::vector<std::string> problems;
-  const auto in = load_yarn_inputs(a.fabric, problems);
+  auto in = load_yarn_inputs(a.fabric, problems);
+  if (in) load_start(a, *in, problems);
   db::Problems found;
   const auto targets = calibration::read_uniform_targets(a.targets, found);
   for (const auto& p : found.items()) problems.push_back(p.to_string());
@@ -462,7 +489,8 @@ const std::vector<std::string> k_fit_outputs{"shell_fit.json", "uniform_targets.
 int run_fit(const YarnFitArgs& a) {
   const auto start = Clock::now();
   std::vector<std::string> problems;
-  const auto in = load_yarn_inputs(a.fabric, problems);
+  auto in = load_yarn_inputs(a.fabric, problems);
+  if (in) load_start(a, *in, problems);
   check_outputs(a.out, k_fit_outputs, a.force, problems);
   if (!problems.empty() || !in) {
     for (const auto& p : problems) std::cerr << p << "\n";
@@ -532,11 +560,17 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
   cmd.add_option("--samples", a.samples, "Stretch samples per direction in the swarm")
       ->check(CLI::Range(2, 1000))
       ->capture_default_str();
-  cmd.add_option("--local-samples", a.local_samples, "Stretch samples per direction in the local step (COBYLA)")
+  cmd.add_option("--local-samples", a.local_samples, "Stretch samples per direction in the local step")
       ->check(CLI::Range(2, 1000))
       ->capture_default_str();
-  cmd.add_option("--local-evaluations", a.local_evaluations, "COBYLA's budget of objective evaluations")
+  cmd.add_option("--local-evaluations", a.local_evaluations, "The local step's budget of objective evaluations")
       ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd.add_option("--local-method", a.local_method,
+                 "Local step: implicit-filtering (Gauss-Newton steps on stencil differences whose scale shrinks "
+                 "from 2 % to 0.2 % of every range; robust to the objective's small-scale roughness) or cobyla "
+                 "(the thesis's choice)")
+      ->check(CLI::IsMember({"implicit-filtering", "cobyla"}))
       ->capture_default_str();
   cmd.add_option("--seed", a.seed, "Swarm seed (same seed, same result whatever --threads)")->capture_default_str();
   cmd.add_option("--threads", a.threads, "OpenMP threads evaluating particles (0: OpenMP's default)")
@@ -547,9 +581,12 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
                  "samples with linear interpolation between them (2: the thesis's both ends)")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
-  cmd.add_flag("--no-swarm", a.no_swarm, "COBYLA alone from the middle of the bounds (ablation, Fig. 6.17)");
+  cmd.add_option("--start", a.start,
+                 "Skip the swarm and start the local step from these parameters (Y.yaml with yarn_fit.json's params "
+                 "keys, or a yarn_fit.json): to refine an earlier fit");
+  cmd.add_flag("--no-swarm", a.no_swarm, "The local step alone from the middle of the bounds (ablation, Fig. 6.11)");
   cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");
-  cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.11)");
+  cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.17)");
   cmd.add_flag("--no-profile", a.no_profile,
                "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "
                "evaluations per parameter)");
@@ -562,8 +599,9 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code) {
   auto yargs = std::make_shared<YarnFitArgs>();
   auto* y = yarn.add_subcommand(
-      "fit", "Fit the yarn parameters {ks1, eps_s, kb, R1, kc1} to uniform targets (swarm + COBYLA, rest-shape "
-             "heuristic per candidate); writes DIR/yarn_fit.json, yarn_curves.csv and yarn_summary.txt");
+      "fit", "Fit the yarn parameters {ks1, eps_s, kb, R1, kc1} to uniform targets (swarm, then a local step by "
+             "implicit filtering or COBYLA; rest-shape heuristic per candidate); writes DIR/yarn_fit.json, "
+             "yarn_curves.csv and yarn_summary.txt");
   add_yarn_fit_options(*y, *yargs);
   y->add_option("--targets", yargs->targets, "uniform_targets.csv (as `shell fit` or `synth yarn` write it)")
       ->required();

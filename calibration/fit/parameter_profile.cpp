@@ -17,14 +17,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-// r with g = |r|²: the objective's normalised errors times the square roots of their weights.
-Eigen::VectorXd residuals(const ObjectiveResult& r) {
-  const WeightedErrors we = weighted_errors(r);
-  Eigen::VectorXd out(static_cast<Eigen::Index>(we.error.size()));
-  for (std::size_t i = 0; i < we.error.size(); ++i) out[static_cast<Eigen::Index>(i)] = std::sqrt(we.weight[i]) * we.error[i];
-  return out;
-}
-
 }  // namespace
 
 std::vector<GaussNewtonRange> gauss_newton_ranges(const Eigen::MatrixXd& jtj, double g) {
@@ -81,7 +73,7 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
   // differences cancel where the residuals have a kink at the fit (ε̄s, where the yarns leave
   // the soft phase, moved both ways gave the same residuals and g 9 % higher on either side:
   // a central J of nearly 0 and a range of 1e19); each one-sided secant sees the rise.
-  const Eigen::VectorXd r0 = residuals(at_fit);
+  const Eigen::VectorXd r0 = residual_vector(at_fit);
   const double log_step = std::log(1.0 + step);
   Eigen::MatrixXd forward(r0.size(), dim), backward(r0.size(), dim);
   std::vector<bool> complete(static_cast<std::size_t>(dim), true);
@@ -93,8 +85,8 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
     e.value = x_fit[i];
     e.g_lower = lo.ok ? lo.value : kInf;
     e.g_upper = hi.ok ? hi.value : kInf;
-    const Eigen::VectorXd r_lo = lo.ok ? residuals(lo) : Eigen::VectorXd();
-    const Eigen::VectorXd r_hi = hi.ok ? residuals(hi) : Eigen::VectorXd();
+    const Eigen::VectorXd r_lo = lo.ok ? residual_vector(lo) : Eigen::VectorXd();
+    const Eigen::VectorXd r_hi = hi.ok ? residual_vector(hi) : Eigen::VectorXd();
     if (r_lo.size() != r0.size() || r_hi.size() != r0.size()) {
       complete[static_cast<std::size_t>(i)] = false;
       forward.col(i).setZero();

@@ -9,6 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "fabrics_db/text_util.hpp"
+
 namespace yarnfit::calibration {
 
 namespace {
@@ -28,6 +30,20 @@ void set_compression_nodes(ObjectiveOptions& o, int nodes, int samples) {
 
 }  // namespace
 
+const char* to_string(LocalMethod method) {
+  switch (method) {
+    case LocalMethod::implicit_filtering: return "implicit-filtering";
+    case LocalMethod::cobyla: return "cobyla";
+  }
+  return "unknown";
+}
+
+std::optional<LocalMethod> local_method_from_string(std::string_view name) {
+  for (const LocalMethod m : {LocalMethod::implicit_filtering, LocalMethod::cobyla})
+    if (name == to_string(m)) return m;
+  return std::nullopt;
+}
+
 std::string YarnFitSettings::invalid_reason() const {
   if (swarm && particles < 2) return "particles: must be at least 2";
   if (swarm && iterations < 1) return "iterations: must be at least 1";
@@ -40,6 +56,9 @@ std::string YarnFitSettings::invalid_reason() const {
   if (local_evaluations < 0) return "local_evaluations: must not be negative";
   if (!swarm && local_evaluations < 1) return "local_evaluations: without the swarm the local step needs at least 1";
   if (!(local_initial_step > 0.0 && local_initial_step <= 1.0)) return "local_initial_step: must be in (0, 1]";
+  if (!(local_initial_scale > 0.0 && local_initial_scale <= 0.5)) return "local_initial_scale: must be in (0, 0.5]";
+  if (!(local_min_scale > 0.0 && local_min_scale <= local_initial_scale))
+    return "local_min_scale: must be in (0, local_initial_scale]";
   if (threads < 0) return "threads: must not be negative";
   if (bending_points != 0 && bending_points < 2) return "bending_points: must be 0 (no check) or at least 2";
   if (!(profile_step >= 0.0 && profile_step < 1.0)) return "profile_step: must be in [0, 1) (0: no profile)";
@@ -111,7 +130,19 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
 
   // Global step: the swarm on the few-sample objective.
   Eigen::VectorXd best = space.from_unit(Eigen::VectorXd::Constant(space.dimension(), 0.5));
-  double best_value = std::numeric_limits<double>::infinity();
+  if (!settings.swarm && settings.start) {
+    best = point_from_params(*settings.start, settings.linear_stretch);
+    if (!space.contains(best)) {
+      std::string outside;
+      for (int i = 0; i < space.dimension(); ++i) {
+        const swarm::Parameter& q = space.parameter(i);
+        if (!(best[i] >= q.lower && best[i] <= q.upper))
+          outside += (outside.empty() ? "" : ", ") + q.name + " = " + db::format_g(best[i]) + " outside [" +
+                     db::format_g(q.lower) + ", " + db::format_g(q.upper) + "]";
+      }
+      throw std::invalid_argument("yarn fit start: " + outside);
+    }
+  }
   if (settings.swarm) {
     swarm::SwarmSettings ss;
     ss.particles = settings.particles;
@@ -149,37 +180,81 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
       return out;
     }
     best = out.swarm.best_point;
-    best_value = out.swarm.best_value;
   }
 
-  // Local step: COBYLA on the many-sample objective, from the swarm's best.
+  // Local step on the many-sample objective, from the swarm's best.
   YarnObjective fine(tile, targets, [&] {
     ObjectiveOptions o = options;
     o.samples = settings.local_samples;
     set_compression_nodes(o, settings.local_compression_nodes, settings.local_samples);
     return o;
   }());
+  out.local.method = settings.local_method;
   if (settings.local_evaluations > 0) {
-    swarm::CobylaSettings cs;
-    cs.max_evaluations = settings.local_evaluations;
-    cs.initial_step = settings.local_initial_step;
-    cs.x_tolerance = 1e-4;
-    int step = 0;
-    // The local objective has more samples than the swarm's: its values are not comparable
-    // with the swarm's best, so the progress tracks its own.
-    best_value = std::numeric_limits<double>::infinity();
-    const swarm::Objective f = [&](const Eigen::VectorXd& x) {
-      const double v = value_at(fine, x);
-      ++step;
-      best_value = std::min(best_value, v);
-      if (settings.progress) settings.progress("local", step, settings.local_evaluations, best_value, seconds_since(start));
-      return v;
-    };
     if (settings.threads > 0) omp_set_num_threads(settings.threads);
-    out.local = swarm::run_cobyla(space, f, best, cs);
+    const auto params_at = [&](const Eigen::VectorXd& x) { return params_from_point(x, scales, settings.linear_stretch); };
+    if (settings.local_method == LocalMethod::implicit_filtering) {
+      swarm::ImplicitFilteringSettings is;
+      is.max_evaluations = settings.local_evaluations;
+      is.initial_scale = settings.local_initial_scale;
+      is.min_scale = settings.local_min_scale;
+      is.threads = settings.threads;
+      const swarm::ResidualObjective residuals = [&](const Eigen::VectorXd& x) {
+        const ObjectiveResult r = fine.evaluate(params_at(x));
+        if (!r.ok) throw std::runtime_error(r.message);
+        return residual_vector(r);
+      };
+      swarm::ImplicitFilteringProgress progress;
+      if (settings.progress) {
+        progress = [&](const swarm::ImplicitFilteringSummary& p) {
+          settings.progress("local", p.evaluations, settings.local_evaluations, p.best_value, seconds_since(start));
+        };
+      }
+      const swarm::ImplicitFilteringSummary r = swarm::run_implicit_filtering(space, residuals, best, is, progress);
+      out.local.status = r.message;
+      out.local.converged = r.status == swarm::ImplicitFilteringStatus::converged ||
+                            r.status == swarm::ImplicitFilteringStatus::stop_value;
+      out.local.best_value = r.best_value;
+      out.local.start_value = r.start_value;
+      out.local.evaluations = r.evaluations;
+      out.local.failed = r.failed;
+      out.local.iterations = static_cast<int>(r.history.size());
+      out.local.final_scale = r.final_scale;
+      out.local.failures = r.failures;
+      out.local.seconds = r.seconds;
+      out.local.report = r.brief_report();
+      if (r.usable()) best = r.best_point;
+    } else {
+      swarm::CobylaSettings cs;
+      cs.max_evaluations = settings.local_evaluations;
+      cs.initial_step = settings.local_initial_step;
+      cs.x_tolerance = 1e-4;
+      int step = 0;
+      // The local objective has more samples than the swarm's: its values are not comparable
+      // with the swarm's best, so the progress tracks its own.
+      double local_best = std::numeric_limits<double>::infinity();
+      const swarm::Objective f = [&](const Eigen::VectorXd& x) {
+        const double v = value_at(fine, x);
+        ++step;
+        local_best = std::min(local_best, v);
+        if (settings.progress) settings.progress("local", step, settings.local_evaluations, local_best, seconds_since(start));
+        return v;
+      };
+      const swarm::CobylaSummary r = swarm::run_cobyla(space, f, best, cs);
+      out.local.status = r.message;
+      out.local.converged = swarm::is_converged(r.status);
+      out.local.best_value = r.best_value;
+      out.local.start_value = r.start_value;
+      out.local.evaluations = r.evaluations;
+      out.local.failed = r.failed;
+      out.local.failures = r.failures;
+      out.local.seconds = r.seconds;
+      out.local.report = r.brief_report();
+      if (r.usable()) best = r.best_point;
+    }
+    out.local.ran = true;
     out.evaluations += out.local.evaluations;
     out.seconds_local = out.local.seconds;
-    if (out.local.usable()) best = out.local.best_point;
   }
 
   out.params = params_from_point(best, scales, settings.linear_stretch);
@@ -263,6 +338,7 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"iterations", settings.swarm ? settings.iterations : 0},
       {"swarm_samples", settings.swarm_samples},
       {"local_samples", settings.local_samples},
+      {"local_method", to_string(settings.local_method)},
       {"local_evaluations", settings.local_evaluations},
       {"swarm_compression_nodes", settings.swarm_compression_nodes},
       {"local_compression_nodes", settings.local_compression_nodes},
@@ -274,6 +350,7 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"profile_step", settings.profile_step},
       {"swarm_cutoff", settings.swarm_cutoff},
   };
+  if (!settings.swarm && settings.start) j["settings"]["start"] = yarn::to_json(*settings.start);
   if (settings.swarm) {
     nlohmann::json history = nlohmann::json::array();
     for (const auto& h : r.swarm.history)
@@ -281,9 +358,19 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
     j["swarm"] = {{"best", number_or_null(r.swarm.best_value)}, {"evaluations", r.swarm.evaluations},
                   {"failed", r.swarm.failed}, {"stopped_at_cutoff", r.swarm_stopped}, {"history", history}};
   }
-  j["local"] = {{"status", swarm::to_string(r.local.status)}, {"message", r.local.message},
-                {"best", number_or_null(r.local.best_value)}, {"evaluations", r.local.evaluations},
-                {"failed", r.local.failed}};
+  if (r.local.ran) {
+    j["local"] = {{"method", to_string(r.local.method)},
+                  {"status", r.local.status},
+                  {"converged", r.local.converged},
+                  {"best", number_or_null(r.local.best_value)},
+                  {"start", number_or_null(r.local.start_value)},
+                  {"evaluations", r.local.evaluations},
+                  {"failed", r.local.failed}};
+    if (r.local.method == LocalMethod::implicit_filtering) {
+      j["local"]["iterations"] = r.local.iterations;
+      j["local"]["final_scale"] = r.local.final_scale;
+    }
+  }
   return j;
 }
 

@@ -348,4 +348,12 @@ WeightedErrors weighted_errors(const ObjectiveResult& result) {
   return out;
 }
 
+Eigen::VectorXd residual_vector(const ObjectiveResult& result) {
+  const WeightedErrors we = weighted_errors(result);
+  Eigen::VectorXd out(static_cast<Eigen::Index>(we.error.size()));
+  for (std::size_t i = 0; i < we.error.size(); ++i)
+    out[static_cast<Eigen::Index>(i)] = std::sqrt(we.weight[i]) * we.error[i];
+  return out;
+}
+
 }  // namespace yarnfit::calibration

@@ -162,6 +162,9 @@ struct WeightedErrors {
   std::vector<double> weight;
 };
 WeightedErrors weighted_errors(const ObjectiveResult& result);
+// The same as one residual vector r with g = |r|²: each error times the square root of its
+// weight (what Gauss–Newton models of g difference). Empty for a failed evaluation.
+Eigen::VectorXd residual_vector(const ObjectiveResult& result);
 
 // Linear interpolation of the targets' (stretch → value) at s, clamped to the ends.
 double interpolate_target(const std::vector<shell::UniaxialPoint>& points, double s, double shell::UniaxialPoint::*field);

@@ -1,6 +1,7 @@
 // The calibration driver: when nothing works, every candidate failing is reported with the
-// reason, not thrown, and no parameters are passed off as a fit; and stopping swarm
-// candidates at their particle's best leaves the fit as it was.
+// reason, not thrown, and no parameters are passed off as a fit; stopping swarm candidates at
+// their particle's best leaves the fit as it was; and the implicit-filtering local step,
+// started off the truth, finds known parameters again.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -76,6 +77,57 @@ TEST(YarnCalibration, StoppingSwarmCandidatesAtTheCutoffLeavesTheFitUnchanged) {
   std::cout << "[ cutoff   ] " << cut.swarm_stopped << " of " << cut.swarm.evaluations
             << " swarm candidates stopped; swarm " << full.seconds_swarm << " s in full, " << cut.seconds_swarm
             << " s with stops\n";
+}
+
+// The local step alone (no swarm), started off known parameters, on targets simulated from
+// them: implicit filtering must come back to the truth, and beat COBYLA from the same start
+// with the same budget (the objective's small-scale roughness; see LocalMethod). Linear
+// stretch (ks1 = ks2, ε̄s = 0) keeps it to three parameters, weft and warp to 6 samples.
+TEST(YarnCalibration, ImplicitFilteringLocalStepReturnsToKnownParameters) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  yarn::YarnParams truth = yarn::default_params(st.scales);
+  truth.ks1 = st.scales.ks2;
+  truth.eps_s = 0.0;
+  truth.kb = 0.2 * st.scales.kb_base();
+  truth.r1 = 0.9 * st.scales.r_est;
+  truth.kc1 = 2.0 * st.scales.kc_base();
+  const SyntheticYarnResult synth = st.synthesise(truth, {db::Direction::weft, db::Direction::warp}, 0.3, 31);
+
+  YarnFitSettings s = small_fit(2, 1, 40);
+  s.swarm = false;
+  s.linear_stretch = true;
+  s.local_samples = 6;
+  s.bending_points = 0;
+  s.profile_step = 0.0;
+  yarn::YarnParams start = truth;
+  start.kb *= 1.5;
+  start.kc1 *= 0.7;
+  start.r1 *= 1.005;
+  s.start = start;
+  const YarnFitResult r = fit_yarn_params(st.yarn_tile(), synth.targets, st.scales, s);
+  s.local_method = LocalMethod::cobyla;
+  const YarnFitResult c = fit_yarn_params(st.yarn_tile(), synth.targets, st.scales, s);
+  ASSERT_TRUE(r.ok && c.ok) << r.message << c.message;
+  EXPECT_EQ(r.local.method, LocalMethod::implicit_filtering);
+  EXPECT_EQ(c.local.method, LocalMethod::cobyla);
+  const auto off = [](double fitted, double known) { return fitted / known - 1.0; };
+  for (const YarnFitResult* f : {&r, &c})
+    std::cout << "[ local    ] " << f->local.report << "\n[ local    ] kb " << 100 * off(f->params.kb, truth.kb)
+              << " %, R1 " << 100 * off(f->params.r1, truth.r1) << " %, kc1 " << 100 * off(f->params.kc1, truth.kc1)
+              << " %\n";
+  EXPECT_NEAR(r.local.start_value, c.local.start_value, 1e-12 * c.local.start_value);  // |r|² against g
+  EXPECT_LT(r.local.best_value, 0.01 * r.local.start_value);
+  EXPECT_LT(r.local.best_value, 0.5 * c.local.best_value);
+  EXPECT_LT(std::abs(off(r.params.kb, truth.kb)), 0.1);
+  EXPECT_LT(std::abs(off(r.params.kc1, truth.kc1)), 0.1);
+  EXPECT_LT(std::abs(off(r.params.r1, truth.r1)), 0.002);
+  EXPECT_EQ(r.params.ks1, st.scales.ks2);  // fixed by linear stretch, whatever the start said
+  const nlohmann::json j = to_json(r, s);
+  EXPECT_EQ(j["local"]["method"], "implicit-filtering");
+  EXPECT_EQ(j["local"]["evaluations"].get<int>(), r.local.evaluations);
+  EXPECT_EQ(to_json(c, s)["settings"]["local_method"], "cobyla");
+  EXPECT_NEAR(j["settings"]["start"]["kb"].get<double>(), start.kb, 1e-12 * start.kb);
 }
 
 }  // namespace

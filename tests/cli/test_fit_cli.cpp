@@ -181,6 +181,49 @@ TEST_F(FitCli, YarnFitRefusesToOverwriteWithoutForceAndSaysWhereResultsAre) {
   EXPECT_EQ(r.err.find("yarn fit synthetic_yarn:"), std::string::npos) << r.err;
 }
 
+// --start refines given parameters without the swarm: the fit starts there (its first local
+// evaluation is the start's objective), yarn_fit.json records it, a yarn_fit.json works as
+// the start file, and a start outside the search bounds exits 2 naming the file and key.
+TEST_F(FitCli, StartRefinesGivenParametersAndLocalMethodIsRecorded) {
+  const std::string few = " --local-samples 3 --local-evaluations 2 --threads 2 --quiet --no-profile";
+  auto r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start1") + few + " --local-method cobyla --start " +
+                   quoted(*s_dir / "y.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json a = read_json(*s_dir / "start1" / "yarn_fit.json");
+  EXPECT_EQ(a["settings"]["local_method"], "cobyla");
+  EXPECT_EQ(a["local"]["method"], "cobyla");
+  EXPECT_EQ(a["settings"]["particles"], 0);  // no swarm
+  EXPECT_FALSE(a.contains("swarm"));
+  const json y = read_json(*s_dir / "y.yaml");
+  EXPECT_EQ(a["settings"]["start"]["kb"], y["kb"]);
+  const std::string summary = read_file(*s_dir / "start1" / "yarn_summary.txt");
+  EXPECT_NE(summary.find("no swarm, started from --start"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("local step cobyla"), std::string::npos) << summary;
+
+  // yarn_fit.json as the start: implicit filtering from the first fit's parameters.
+  r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start2") + few + " --start " +
+              quoted(*s_dir / "start1" / "yarn_fit.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json b = read_json(*s_dir / "start2" / "yarn_fit.json");
+  EXPECT_EQ(b["local"]["method"], "implicit-filtering");
+  EXPECT_EQ(b["settings"]["start"]["ks1"], a["params"]["ks1"]);
+  EXPECT_EQ(b["local"]["evaluations"], 1);  // a budget of 2 is less than a stencil
+  EXPECT_NEAR(b["local"]["start"].get<double>(), a["objective"].get<double>(), 1e-9 * a["objective"].get<double>());
+
+  json outside = y;
+  outside["R1"] = 10.0 * y["R1"].get<double>();
+  write_file(*s_dir / "outside.yaml", outside.dump(2) + "\n");
+  r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start3") + few + " --start " + quoted(*s_dir / "outside.yaml"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find((*s_dir / "outside.yaml").string() + ": R1: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is outside the search bounds"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(*s_dir / "start3" / "yarn_fit.json"));
+
+  r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start4") + few + " --local-method simplex");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--local-method"), std::string::npos) << r.err;
+}
+
 TEST_F(FitCli, FabricWithoutPatternOrStiffnessExits2NamingFabricYaml) {
   const fs::path no_pattern = edited_fabric("no_pattern", "pattern:\n  file: tile.pyp\n  weft_axis: x\n", "");
   auto r = run_cli(yarn_fit(no_pattern, targets(), *s_dir / "o1") + k_tiny);
@@ -274,7 +317,7 @@ TEST_F(FitCli, HelpListsTheOptions) {
   ASSERT_EQ(r.exit_code, 0);
   for (const char* o : {"--targets", "--particles", "--iterations", "--samples", "--local-samples", "--local-evaluations",
                         "--seed", "--threads", "--no-swarm", "--linear-stretch", "--no-rest-shape", "--checkpoint",
-                        "--resume", "--quiet", "--force"})
+                        "--resume", "--quiet", "--force", "--local-method", "--start"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
   r = run_cli("fit --help");
   ASSERT_EQ(r.exit_code, 0);
