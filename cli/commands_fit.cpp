@@ -568,7 +568,7 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
       ->capture_default_str();
   cmd.add_option("--local-method", a.local_method,
                  "Local step: implicit-filtering (Gauss-Newton steps on stencil differences whose scale shrinks "
-                 "from 2 % to 0.2 % of every range; robust to the objective's small-scale roughness) or cobyla "
+                 "from 2 % to 0.5 % of every range; robust to the objective's small-scale roughness) or cobyla "
                  "(the thesis's choice)")
       ->check(CLI::IsMember({"implicit-filtering", "cobyla"}))
       ->capture_default_str();

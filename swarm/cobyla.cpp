@@ -64,13 +64,7 @@ double callback(unsigned n, const double* u_raw, double* gradient, void* data) {
   if (index == 0) s.start_value = e.value;
   if (!e.ok) {
     ++s.failed;
-    if (static_cast<int>(s.failures.size()) < c.settings.max_failures_kept) {
-      try {
-        s.failures.push_back({index, 0, -1, x, e.message});
-      } catch (...) {
-        // Out of memory for the message: the failure is still counted.
-      }
-    }
+    keep_failure(s.failures, c.settings.max_failures_kept, index, 0, -1, x, e.message);
     return penalty(c);
   }
   c.worst_seen = std::max(c.worst_seen, e.value);
@@ -109,8 +103,7 @@ bool CobylaSettings::is_valid(std::string* why) const {
     if (why) *why = "cobyla settings: " + message;
     return false;
   };
-  if (max_evaluations < 1) return bad("max_evaluations must be at least 1 (got " + std::to_string(max_evaluations) + ")");
-  if (!(max_seconds >= 0.0) || std::isinf(max_seconds)) return bad("max_seconds must be finite and ≥ 0 (0: no limit)");
+  if (const std::string budget = budget_problem(max_evaluations, max_seconds); !budget.empty()) return bad(budget);
   if (!(initial_step > 0.0 && initial_step <= 1.0)) return bad("initial_step must be in (0, 1] (fraction of the range)");
   if (!(x_tolerance >= 0.0 && x_tolerance < 1.0)) return bad("x_tolerance must be in [0, 1)");
   if (!(f_tolerance_relative >= 0.0) || std::isinf(f_tolerance_relative)) return bad("f_tolerance_relative must be finite and ≥ 0");

@@ -51,8 +51,7 @@ bool ImplicitFilteringSettings::is_valid(std::string* why) const {
     if (why) *why = "implicit filtering settings: " + message;
     return false;
   };
-  if (max_evaluations < 1) return bad("max_evaluations must be at least 1 (got " + std::to_string(max_evaluations) + ")");
-  if (!(max_seconds >= 0.0) || std::isinf(max_seconds)) return bad("max_seconds must be finite and ≥ 0 (0: no limit)");
+  if (const std::string budget = budget_problem(max_evaluations, max_seconds); !budget.empty()) return bad(budget);
   if (!(initial_scale > 0.0 && initial_scale <= 0.5)) return bad("initial_scale must be in (0, 0.5] (fraction of the range)");
   if (!(min_scale > 0.0 && min_scale <= initial_scale)) return bad("min_scale must be in (0, initial_scale]");
   if (!(shrink > 0.0 && shrink < 1.0)) return bad("shrink must be in (0, 1)");
@@ -124,13 +123,7 @@ ImplicitFilteringSummary run_implicit_filtering(const ParameterSpace& space, con
     const int index = s.evaluations++;
     if (p.outcome.ok) return;
     ++s.failed;
-    if (static_cast<int>(s.failures.size()) < settings.max_failures_kept) {
-      try {
-        s.failures.push_back({index, 0, -1, space.from_unit(p.u), p.outcome.message});
-      } catch (...) {
-        // Out of memory for the message: the failure is still counted.
-      }
-    }
+    keep_failure(s.failures, settings.max_failures_kept, index, 0, -1, space.from_unit(p.u), p.outcome.message);
   };
   const auto finish = [&](ImplicitFilteringStatus status, const std::string& detail = {}) {
     s.status = status;

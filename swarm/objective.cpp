@@ -31,4 +31,20 @@ Evaluation evaluate_guarded(const std::function<double()>& f) noexcept {
   return e;
 }
 
+void keep_failure(std::vector<FailedEvaluation>& failures, int max_kept, int evaluation, int iteration, int particle,
+                  const Eigen::VectorXd& x, const std::string& message) noexcept {
+  if (static_cast<int>(failures.size()) >= max_kept) return;
+  try {
+    failures.push_back({evaluation, iteration, particle, x, message});
+  } catch (...) {
+    // Out of memory for the record: the failure is still counted by the caller.
+  }
+}
+
+std::string budget_problem(int max_evaluations, double max_seconds) {
+  if (max_evaluations < 1) return "max_evaluations must be at least 1 (got " + std::to_string(max_evaluations) + ")";
+  if (!(max_seconds >= 0.0) || std::isinf(max_seconds)) return "max_seconds must be finite and ≥ 0 (0: no limit)";
+  return {};
+}
+
 }  // namespace yarnfit::swarm

@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace yarnfit::swarm {
 
@@ -52,5 +53,14 @@ struct FailedEvaluation {
   Eigen::VectorXd x;   // caller's coordinates
   std::string message;
 };
+
+// Keeps a failed evaluation for the summary while fewer than `max_kept` are kept. Never
+// throws: out of memory, the record is lost (the caller still counts the failure).
+void keep_failure(std::vector<FailedEvaluation>& failures, int max_kept, int evaluation, int iteration, int particle,
+                  const Eigen::VectorXd& x, const std::string& message) noexcept;
+
+// What is wrong with a local optimiser's budgets (max_evaluations ≥ 1; max_seconds finite
+// and ≥ 0, 0 meaning no limit), or empty.
+[[nodiscard]] std::string budget_problem(int max_evaluations, double max_seconds);
 
 }  // namespace yarnfit::swarm

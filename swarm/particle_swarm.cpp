@@ -161,9 +161,8 @@ void evaluate(detail::SwarmState& st, const ParameterSpace& space, const Particl
     if (!e.ok) {
       ++rec.failed;
       ++sum.failed;
-      if (static_cast<int>(sum.failures.size()) < options.max_failures_kept) {
-        sum.failures.push_back({evaluation, iteration, i, points[static_cast<std::size_t>(i)], e.message});
-      }
+      keep_failure(sum.failures, options.max_failures_kept, evaluation, iteration, i, points[static_cast<std::size_t>(i)],
+                   e.message);
       continue;
     }
     total += e.value;

@@ -22,6 +22,19 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// What both local optimisers' summaries have in common.
+template <class Summary>
+void take_summary(const Summary& r, LocalStepSummary& out) {
+  out.status = r.message;
+  out.best_value = r.best_value;
+  out.start_value = r.start_value;
+  out.evaluations = r.evaluations;
+  out.failed = r.failed;
+  out.failures = r.failures;
+  out.seconds = r.seconds;
+  out.report = r.brief_report();
+}
+
 // 0: c* at every sample; N ≥ 2: at N nodes, at most one per sample.
 void set_compression_nodes(ObjectiveOptions& o, int nodes, int samples) {
   o.free_compression_every_sample = nodes == 0;
@@ -211,18 +224,12 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
         };
       }
       const swarm::ImplicitFilteringSummary r = swarm::run_implicit_filtering(space, residuals, best, is, progress);
-      out.local.status = r.message;
+      take_summary(r, out.local);
       out.local.converged = r.status == swarm::ImplicitFilteringStatus::converged ||
                             r.status == swarm::ImplicitFilteringStatus::stop_value;
-      out.local.best_value = r.best_value;
-      out.local.start_value = r.start_value;
-      out.local.evaluations = r.evaluations;
-      out.local.failed = r.failed;
       out.local.iterations = static_cast<int>(r.history.size());
       out.local.final_scale = r.final_scale;
-      out.local.failures = r.failures;
-      out.local.seconds = r.seconds;
-      out.local.report = r.brief_report();
+      out.local.history = r.history;
       if (r.usable()) best = r.best_point;
     } else {
       swarm::CobylaSettings cs;
@@ -241,15 +248,8 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
         return v;
       };
       const swarm::CobylaSummary r = swarm::run_cobyla(space, f, best, cs);
-      out.local.status = r.message;
+      take_summary(r, out.local);
       out.local.converged = swarm::is_converged(r.status);
-      out.local.best_value = r.best_value;
-      out.local.start_value = r.start_value;
-      out.local.evaluations = r.evaluations;
-      out.local.failed = r.failed;
-      out.local.failures = r.failures;
-      out.local.seconds = r.seconds;
-      out.local.report = r.brief_report();
       if (r.usable()) best = r.best_point;
     }
     out.local.ran = true;
@@ -369,6 +369,14 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
     if (r.local.method == LocalMethod::implicit_filtering) {
       j["local"]["iterations"] = r.local.iterations;
       j["local"]["final_scale"] = r.local.final_scale;
+      nlohmann::json history = nlohmann::json::array();
+      for (const auto& h : r.local.history)
+        history.push_back({{"evaluations", h.evaluations},
+                           {"scale", h.scale},
+                           {"best", h.value},
+                           {"move", swarm::to_string(h.move)},
+                           {"trials", h.trials}});
+      j["local"]["history"] = history;
     }
   }
   return j;

@@ -126,6 +126,9 @@ TEST(YarnCalibration, ImplicitFilteringLocalStepReturnsToKnownParameters) {
   const nlohmann::json j = to_json(r, s);
   EXPECT_EQ(j["local"]["method"], "implicit-filtering");
   EXPECT_EQ(j["local"]["evaluations"].get<int>(), r.local.evaluations);
+  ASSERT_EQ(j["local"]["history"].size(), static_cast<std::size_t>(r.local.iterations));
+  EXPECT_EQ(j["local"]["history"].back()["best"].get<double>(), r.local.best_value);
+  EXPECT_EQ(j["local"]["history"].back()["evaluations"].get<int>(), r.local.evaluations);
   EXPECT_EQ(to_json(c, s)["settings"]["local_method"], "cobyla");
   EXPECT_NEAR(j["settings"]["start"]["kb"].get<double>(), start.kb, 1e-12 * start.kb);
 }
