@@ -103,13 +103,13 @@ bool CobylaSettings::is_valid(std::string* why) const {
     if (why) *why = "cobyla settings: " + message;
     return false;
   };
-  if (const std::string budget = budget_problem(max_evaluations, max_seconds); !budget.empty()) return bad(budget);
+  if (const std::string stopping = local_stopping_problem(max_evaluations, max_seconds, stop_value, max_failures_kept);
+      !stopping.empty())
+    return bad(stopping);
   if (!(initial_step > 0.0 && initial_step <= 1.0)) return bad("initial_step must be in (0, 1] (fraction of the range)");
   if (!(x_tolerance >= 0.0 && x_tolerance < 1.0)) return bad("x_tolerance must be in [0, 1)");
   if (!(f_tolerance_relative >= 0.0) || std::isinf(f_tolerance_relative)) return bad("f_tolerance_relative must be finite and ≥ 0");
   if (!(f_tolerance_absolute >= 0.0) || std::isinf(f_tolerance_absolute)) return bad("f_tolerance_absolute must be finite and ≥ 0");
-  if (std::isnan(stop_value)) return bad("stop_value must not be NaN (-inf: off)");
-  if (max_failures_kept < 0) return bad("max_failures_kept must be ≥ 0");
   return true;
 }
 

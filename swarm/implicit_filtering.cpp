@@ -51,16 +51,16 @@ bool ImplicitFilteringSettings::is_valid(std::string* why) const {
     if (why) *why = "implicit filtering settings: " + message;
     return false;
   };
-  if (const std::string budget = budget_problem(max_evaluations, max_seconds); !budget.empty()) return bad(budget);
+  if (const std::string stopping = local_stopping_problem(max_evaluations, max_seconds, stop_value, max_failures_kept);
+      !stopping.empty())
+    return bad(stopping);
   if (!(initial_scale > 0.0 && initial_scale <= 0.5)) return bad("initial_scale must be in (0, 0.5] (fraction of the range)");
   if (!(min_scale > 0.0 && min_scale <= initial_scale)) return bad("min_scale must be in (0, initial_scale]");
   if (!(shrink > 0.0 && shrink < 1.0)) return bad("shrink must be in (0, 1)");
   if (!(max_step_scales >= 1.0) || std::isinf(max_step_scales)) return bad("max_step_scales must be finite and ≥ 1");
   if (line_search_steps < 0) return bad("line_search_steps must be ≥ 0");
   if (!(levenberg >= 0.0) || std::isinf(levenberg)) return bad("levenberg must be finite and ≥ 0");
-  if (std::isnan(stop_value)) return bad("stop_value must not be NaN (-inf: off)");
   if (threads < 0) return bad("threads must be ≥ 0 (0: OpenMP's default)");
-  if (max_failures_kept < 0) return bad("max_failures_kept must be ≥ 0");
   return true;
 }
 

@@ -59,8 +59,10 @@ struct FailedEvaluation {
 void keep_failure(std::vector<FailedEvaluation>& failures, int max_kept, int evaluation, int iteration, int particle,
                   const Eigen::VectorXd& x, const std::string& message) noexcept;
 
-// What is wrong with a local optimiser's budgets (max_evaluations ≥ 1; max_seconds finite
-// and ≥ 0, 0 meaning no limit), or empty.
-[[nodiscard]] std::string budget_problem(int max_evaluations, double max_seconds);
+// What is wrong with the stopping settings both local optimisers share, or empty:
+// max_evaluations ≥ 1; max_seconds finite and ≥ 0 (0: no limit); stop_value not NaN (-inf:
+// off); max_failures_kept ≥ 0.
+[[nodiscard]] std::string local_stopping_problem(int max_evaluations, double max_seconds, double stop_value,
+                                                 int max_failures_kept);
 
 }  // namespace yarnfit::swarm
