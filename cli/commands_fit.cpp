@@ -84,12 +84,7 @@ void load_start(const YarnFitArgs& a, YarnInputs& in, std::vector<std::string>& 
   if (!in.start) return;
   const auto space = calibration::yarn_parameter_space(in.scales, a.linear_stretch);
   const Eigen::VectorXd x = calibration::point_from_params(*in.start, a.linear_stretch);
-  for (int i = 0; i < space.dimension(); ++i) {
-    const auto& q = space.parameter(i);
-    if (!(x[i] >= q.lower && x[i] <= q.upper))
-      problems.push_back(a.start + ": " + q.name + ": " + db::format_g(x[i]) + " is outside the search bounds [" +
-                         db::format_g(q.lower) + ", " + db::format_g(q.upper) + "] of this fabric");
-  }
+  for (const std::string& outside : space.bounds_problems(x)) problems.push_back(a.start + ": " + outside + " of this fabric");
 }
 
 // Loads FABRIC and checks that it can be yarn-fitted: every problem is one line in `problems`.

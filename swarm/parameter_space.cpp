@@ -92,6 +92,19 @@ Eigen::VectorXd ParameterSpace::from_unit(const Eigen::VectorXd& u) const {
   return x;
 }
 
+std::vector<std::string> ParameterSpace::bounds_problems(const Eigen::VectorXd& x) const {
+  check_size(x, "point");
+  std::vector<std::string> out;
+  for (int i = 0; i < dimension(); ++i) {
+    const auto& p = parameter(i);
+    if (x[i] >= p.lower && x[i] <= p.upper) continue;
+    const std::string name = p.name.empty() ? "x[" + std::to_string(i) + "]" : p.name;
+    out.push_back(name + ": " + number(x[i]) + " is outside the search bounds [" + number(p.lower) + ", " +
+                  number(p.upper) + "]");
+  }
+  return out;
+}
+
 bool ParameterSpace::contains(const Eigen::VectorXd& x) const {
   if (x.size() != dimension()) return false;
   for (int i = 0; i < dimension(); ++i) {

@@ -46,6 +46,10 @@ class ParameterSpace {
   [[nodiscard]] Eigen::VectorXd from_unit(const Eigen::VectorXd& u) const;
 
   [[nodiscard]] bool contains(const Eigen::VectorXd& x) const;
+  // One line per coordinate of x outside its bounds, "NAME: V is outside the search bounds
+  // [LO, HI]" (NAME as given, x[i] when empty); empty when x lies inside. x must have the
+  // space's size (std::invalid_argument otherwise).
+  [[nodiscard]] std::vector<std::string> bounds_problems(const Eigen::VectorXd& x) const;
   [[nodiscard]] bool operator==(const ParameterSpace& other) const;
 
  private:

@@ -9,8 +9,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "fabrics_db/text_util.hpp"
-
 namespace yarnfit::calibration {
 
 namespace {
@@ -131,6 +129,17 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
   const auto start = Clock::now();
   YarnFitResult out;
   const swarm::ParameterSpace space = yarn_parameter_space(scales, settings.linear_stretch);
+  // Where the local step starts without the swarm: the middle of the bounds or --start,
+  // checked before any simulation.
+  Eigen::VectorXd best = space.from_unit(Eigen::VectorXd::Constant(space.dimension(), 0.5));
+  if (!settings.swarm && settings.start) {
+    best = point_from_params(*settings.start, settings.linear_stretch);
+    if (const auto outside = space.bounds_problems(best); !outside.empty()) {
+      std::string why = "yarn fit start: " + outside.front();
+      for (std::size_t i = 1; i < outside.size(); ++i) why += "; " + outside[i];
+      throw std::invalid_argument(why);
+    }
+  }
 
   ObjectiveOptions options = settings.objective;
   options.rest_shape = settings.rest_shape;
@@ -142,20 +151,6 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
   };
 
   // Global step: the swarm on the few-sample objective.
-  Eigen::VectorXd best = space.from_unit(Eigen::VectorXd::Constant(space.dimension(), 0.5));
-  if (!settings.swarm && settings.start) {
-    best = point_from_params(*settings.start, settings.linear_stretch);
-    if (!space.contains(best)) {
-      std::string outside;
-      for (int i = 0; i < space.dimension(); ++i) {
-        const swarm::Parameter& q = space.parameter(i);
-        if (!(best[i] >= q.lower && best[i] <= q.upper))
-          outside += (outside.empty() ? "" : ", ") + q.name + " = " + db::format_g(best[i]) + " outside [" +
-                     db::format_g(q.lower) + ", " + db::format_g(q.upper) + "]";
-      }
-      throw std::invalid_argument("yarn fit start: " + outside);
-    }
-  }
   if (settings.swarm) {
     swarm::SwarmSettings ss;
     ss.particles = settings.particles;

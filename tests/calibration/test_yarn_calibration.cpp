@@ -133,5 +133,26 @@ TEST(YarnCalibration, ImplicitFilteringLocalStepReturnsToKnownParameters) {
   EXPECT_NEAR(j["settings"]["start"]["kb"].get<double>(), start.kb, 1e-12 * start.kb);
 }
 
+// A start outside the search bounds is refused before any simulation, naming each parameter.
+TEST(YarnCalibration, StartOutsideTheBoundsIsRefusedNamingTheParameters) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  YarnFitSettings s = small_fit(2, 1, 5);
+  s.swarm = false;
+  yarn::YarnParams start = yarn::default_params(st.scales);
+  start.r1 = 10.0 * st.scales.r_est;
+  start.kb = 1e6 * st.scales.kb_base();
+  s.start = start;
+  try {
+    (void)fit_yarn_params(st.yarn_tile(), {}, st.scales, s);
+    FAIL() << "a start outside the bounds was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("yarn fit start: kb: ", 0), 0u) << what;
+    EXPECT_NE(what.find("; R1: "), std::string::npos) << what;
+    EXPECT_NE(what.find("is outside the search bounds"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace yarnfit::calibration

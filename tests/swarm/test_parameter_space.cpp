@@ -57,5 +57,18 @@ TEST(ParameterSpace, PointsOutsideTheBoundsAreRejectedByName) {
   EXPECT_THROW((void)space.to_unit(Eigen::VectorXd::Zero(2)), std::invalid_argument);
 }
 
+
+// Each coordinate outside its bounds is named once, in order; a point inside gives nothing.
+TEST(ParameterSpace, BoundsProblemsNameEveryCoordinateOutside) {
+  const ParameterSpace space({{"ks1", 0.1, 10.0, true}, {"", 0.0, 1.0, false}, {"R1", 1.0, 2.0, false}});
+  EXPECT_TRUE(space.bounds_problems(Eigen::Vector3d(1.0, 0.5, 1.5)).empty());
+  const auto p = space.bounds_problems(Eigen::Vector3d(20.0, 0.5, 0.5));
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[0], "ks1: 20 is outside the search bounds [0.1, 10]");
+  EXPECT_EQ(p[1], "R1: 0.5 is outside the search bounds [1, 2]");
+  EXPECT_EQ(space.bounds_problems(Eigen::Vector3d(0.5, -1.0, 1.0)).front(), "x[1]: -1 is outside the search bounds [0, 1]");
+  EXPECT_THROW((void)space.bounds_problems(Eigen::Vector2d(1.0, 0.5)), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace yarnfit::swarm
