@@ -21,7 +21,7 @@ $yarnfit db show "$example"
 
 echo
 # A small swarm (16 particles x 6 iterations, 5 samples per direction) and a short local step
-# keep the whole job to about 2 minutes on 2 cores; the defaults (64 x 10, 7 and 20
+# keep the fits under a minute on 2 cores (36 s measured); the defaults (64 x 10, 7 and 20
 # samples, 150 local evaluations) are for real calibrations.
 fit_settings=(--particles 16 --iterations 6 --samples 5 --local-samples 12 --local-evaluations 40)
 echo "== yarnfit fit $example --out $out ${fit_settings[*]}"
