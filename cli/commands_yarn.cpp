@@ -43,8 +43,8 @@ double seconds_since(Clock::time_point start) {
 // "compression_search" when every solve converged but no zero-orthogonal-stress c was found.
 std::string termination(const yarn::Sample& s) {
   if (s.ok) return "converged";
-  if (s.last_solve.converged) return "compression_search";
-  return yarn::to_string(s.last_solve.reason);
+  if (s.last_solve.converged()) return "compression_search";
+  return yarn::to_string(s.last_solve.status);
 }
 
 json number_or_null(bool ok, double v) { return ok && std::isfinite(v) ? json(v) : json(nullptr); }
@@ -157,9 +157,9 @@ int run_yarn_sim(const YarnSimArgs& a) {
     message = "bending stress: " + bend->message;
   }
   if (!rest_ok) {
-    if (sample_ok) reason = std::string("rest_shape_") + yarn::to_string(scene->rest->last_solve.reason);
+    if (sample_ok) reason = std::string("rest_shape_") + yarn::to_string(scene->rest->last_solve.status);
     message = (message.empty() ? "" : message + "; ") + "rest shape: last solve " +
-              yarn::to_string(scene->rest->last_solve.reason) + ": " + scene->rest->last_solve.message;
+              yarn::to_string(scene->rest->last_solve.status) + ": " + scene->rest->last_solve.message;
   }
 
   json out;
@@ -191,7 +191,7 @@ int run_yarn_sim(const YarnSimArgs& a) {
   out["residual_N"] = sample.last_solve.residual;
   out["tolerance_N"] = sample.last_solve.tolerance;
   out["min_contact_distance_m"] = sample.last_solve.min_contact_distance;
-  out["effects"] = system.effects().names(sample.ok ? sample.chi : chi);
+  out["effects"] = sample.effects;  // the terms assembled, and co-rotation when curved
   out["rest_shape"] = rest_shape_json(*scene);
   out["params"] = yarn::to_json(scene->params);
   out["tile"] = tile_json(*scene);
@@ -324,7 +324,7 @@ int run_yarn_curve(const YarnCurveArgs& a) {
               << db::format_g(seconds_since(start), 3) << " s in all)\n";
   }
   if (!rest_ok)
-    std::cerr << "yarn curve: rest shape not converged: " << yarn::to_string(scene->rest->last_solve.reason) << ": "
+    std::cerr << "yarn curve: rest shape not converged: " << yarn::to_string(scene->rest->last_solve.status) << ": "
               << scene->rest->last_solve.message << "\n";
   if (sweep.failures > 0) std::cerr << "yarn curve: " << sweep.failures << " point(s) did not converge (converged=0 in the CSV)\n";
   return sweep.ok() && rest_ok && dumps_ok ? k_exit_ok : k_exit_internal;

@@ -106,7 +106,7 @@ json rest_shape_json(const YarnScene& scene) {
   const auto& r = *scene.rest;
   return {{"applied", true},
           {"converged", r.converged},
-          {"termination", yarn::to_string(r.last_solve.reason)},
+          {"termination", yarn::to_string(r.last_solve.status)},
           {"message", r.last_solve.message},
           {"rounds", r.rounds},
           {"newton_iterations", r.newton_iterations},

@@ -145,7 +145,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
     const double s0 = t.stretch.front().stretch, s1 = t.stretch.back().stretch;
 
     auto count = [&](const yarn::Sample& smp) {
-      if (smp.last_solve.reason == yarn::Termination::converged_loosely) ++loose;
+      if (smp.last_solve.status == yarn::Termination::converged_loosely) ++loose;
       e.solves += smp.solves;
       iterations += smp.newton_iterations;
     };

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "fabrics_db/tile/periodic_tile.hpp"
-#include "fabrics_db/tile/segment_distance.hpp"
+#include "numerics/geometry/segment_distance.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -208,7 +208,7 @@ TileFacts compute_tile_facts(const PeriodicTile& tile) {
       }
       const Vec3 q0 = {b.p0[0] + sx, b.p0[1] + sy, b.p0[2]};
       const Vec3 q1 = {b.p1[0] + sx, b.p1[1] + sy, b.p1[2]};
-      const double d = segment_segment_distance(a.p0, a.p1, q0, q1);
+      const double d = numerics::segment_segment_distance(a.p0, a.p1, q0, q1);
       if (d >= best) return;
       int k = 0;
       if (b.yarn == a.yarn &&

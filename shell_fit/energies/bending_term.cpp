@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "numerics/psd_projection.hpp"
+#include "numerics/terms/element_assembly.hpp"
 
 namespace yarnfit::shell {
 
@@ -18,7 +19,7 @@ namespace {
 using Vector12 = Eigen::Matrix<double, 12, 1>;
 using Matrix12 = Eigen::Matrix<double, 12, 12>;
 
-constexpr int parallel_threshold = 512;
+constexpr int k_parallel_threshold = 512;
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;
@@ -140,29 +141,57 @@ double edge_weight(const BendingTerm::Edge& e) {
   return e.area / (e.rest_height * e.rest_height);
 }
 
-// Adds Σ_e scale(e) ∇(θ_e²) · edge_weight(e) into `g`, per-edge work in parallel.
-template <typename Scale>
-void scatter(const std::vector<BendingTerm::Edge>& edges, const Eigen::VectorXd& x, double* g,
-             const Scale& scale) {
-  const int count = static_cast<int>(edges.size());
-  std::vector<Vector12> local(edges.size());
-#pragma omp parallel for schedule(static) if (count > parallel_threshold)
-  for (int k = 0; k < count; ++k) {
-    const auto& e = edges[static_cast<std::size_t>(k)];
+// One edge as a kernel of the assembler (numerics/terms/element_assembly.hpp), with the
+// stiffness of each edge given by `stiffness` (k_θ(e), or a weight for the per-parameter
+// derivatives).
+template <typename Stiffness>
+struct EdgeKernel {
+  static constexpr int nodes_per_element = 4;
+  static constexpr int dofs_per_node = 3;
+  static constexpr numerics::ElementSum summation = numerics::ElementSum::per_term;
+  static constexpr bool zero_energy_is_inactive = false;
+  static constexpr int parallel_threshold = k_parallel_threshold;
+
+  const std::vector<BendingTerm::Edge>& edges;
+  Stiffness stiffness;
+
+  [[nodiscard]] int element_count() const { return static_cast<int>(edges.size()); }
+  [[nodiscard]] std::array<int, 4> element_nodes(int k) const { return edges[static_cast<std::size_t>(k)].v; }
+  // E_e = k_θ(e) (A_e / H²) θ² and its derivatives 2 c θ ∇θ, 2 c (∇θ∇θᵀ + θ∇²θ); the energy
+  // is computed only when no derivative is asked for (0 otherwise). A degenerate stencil has
+  // zero derivatives.
+  double element(int k, const Eigen::VectorXd& x, Vector12* gradient, Matrix12* hessian, bool project_psd) const {
+    const BendingTerm::Edge& e = edges[static_cast<std::size_t>(k)];
+    const double c = stiffness(e) * edge_weight(e);
+    if (gradient == nullptr && hessian == nullptr) {
+      const double theta = dihedral(gather(e, x));
+      return c * theta * theta;
+    }
     double theta = 0.0;
     Vector12 grad;
-    if (dihedral_derivatives(gather(e, x), theta, grad, nullptr)) {
-      local[static_cast<std::size_t>(k)] = (2.0 * scale(e) * edge_weight(e) * theta) * grad;
-    } else {
-      local[static_cast<std::size_t>(k)].setZero();
+    Matrix12 hess;
+    const bool ok = dihedral_derivatives(gather(e, x), theta, grad, hessian != nullptr ? &hess : nullptr);
+    if (gradient != nullptr) {
+      if (ok) *gradient = (2.0 * c * theta) * grad;
+      else gradient->setZero();
     }
-  }
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    for (std::size_t i = 0; i < 4; ++i) {
-      for (int d = 0; d < 3; ++d) g[3 * edges[k].v[i] + d] += local[k](3 * static_cast<int>(i) + d);
+    if (hessian != nullptr) {
+      hessian->setZero();
+      if (ok) {
+        *hessian = (2.0 * c) * (grad * grad.transpose() + theta * hess);
+        if (project_psd) numerics::project_psd<12>(*hessian);
+      }
     }
+    return 0.0;
   }
+};
+
+template <typename Stiffness>
+EdgeKernel<Stiffness> edge_kernel(const std::vector<BendingTerm::Edge>& edges, Stiffness stiffness) {
+  return {edges, std::move(stiffness)};
 }
+
+const auto k_edge_stiffness = [](const BendingTerm::Edge& e) { return e.ktheta; };
 
 }  // namespace
 
@@ -226,55 +255,21 @@ double BendingTerm::curvature(const Eigen::VectorXd& x, int e) const {
   return dihedral_angle(x, e) / m_edges.at(static_cast<std::size_t>(e)).rest_height;
 }
 
-double BendingTerm::value(const Eigen::VectorXd& x) const {
+void BendingTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
   check_size(x, dof_count(), "value");
-  const int count = static_cast<int>(m_edges.size());
-  std::vector<double> values(m_edges.size());
-#pragma omp parallel for schedule(static) if (count > parallel_threshold)
-  for (int k = 0; k < count; ++k) {
-    const Edge& e = m_edges[static_cast<std::size_t>(k)];
-    const double theta = dihedral(gather(e, x));
-    values[static_cast<std::size_t>(k)] = e.ktheta * edge_weight(e) * theta * theta;
-  }
-  double total = 0.0;
-  for (const double v : values) total += v;  // serial: independent of the thread count
-  return total;
+  numerics::add_element_values(edge_kernel(m_edges, k_edge_stiffness), x, energy);
 }
 
 void BendingTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
   check_size(x, dof_count(), "add_gradient");
   check_size(g, dof_count(), "add_gradient (gradient buffer)");
-  scatter(m_edges, x, g.data(), [](const Edge& e) { return e.ktheta; });
+  numerics::add_element_gradients(edge_kernel(m_edges, k_edge_stiffness), x, g.data());
 }
 
-void BendingTerm::add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const {
+void BendingTerm::add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h,
+                              const numerics::HessianOptions& options) const {
   check_size(x, dof_count(), "add_hessian");
-  const int count = static_cast<int>(m_edges.size());
-  const std::size_t start = h.size();
-  constexpr std::size_t block = 144;
-  // Each edge owns a fixed slice of the triplets: lock-free and thread-count independent.
-  h.resize(start + m_edges.size() * block);
-#pragma omp parallel for schedule(static) if (count > parallel_threshold)
-  for (int k = 0; k < count; ++k) {
-    const Edge& e = m_edges[static_cast<std::size_t>(k)];
-    double theta = 0.0;
-    Vector12 grad;
-    Matrix12 hess;
-    Matrix12 local = Matrix12::Zero();
-    if (dihedral_derivatives(gather(e, x), theta, grad, &hess)) {
-      const double c = 2.0 * e.ktheta * edge_weight(e);
-      local = c * (grad * grad.transpose() + theta * hess);
-      if (project_psd) numerics::project_psd<12>(local);
-    }
-    std::size_t out = start + static_cast<std::size_t>(k) * block;
-    for (int i = 0; i < 12; ++i) {
-      const int row = 3 * e.v[static_cast<std::size_t>(i / 3)] + i % 3;
-      for (int j = 0; j < 12; ++j) {
-        const int col = 3 * e.v[static_cast<std::size_t>(j / 3)] + j % 3;
-        h[out++] = Eigen::Triplet<double>(row, col, local(i, j));
-      }
-    }
-  }
+  numerics::add_element_hessians(edge_kernel(m_edges, k_edge_stiffness), x, h, options);
 }
 
 void BendingTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
@@ -285,8 +280,8 @@ void BendingTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::Ma
                                 std::to_string(G.rows()) + " x " + std::to_string(G.cols()));
   }
   for (std::size_t j = 0; j < 3; ++j) {
-    scatter(m_edges, x, G.col(static_cast<Eigen::Index>(j)).data(),
-            [j](const Edge& e) { return e.weights[j]; });
+    numerics::add_element_gradients(edge_kernel(m_edges, [j](const Edge& e) { return e.weights[j]; }), x,
+                                    G.col(static_cast<Eigen::Index>(j)).data());
   }
 }
 

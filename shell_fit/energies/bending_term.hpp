@@ -40,13 +40,13 @@
 #include <string>
 #include <vector>
 
-#include "shell_fit/core/energy_term.hpp"
+#include "numerics/terms/energy_term.hpp"
 #include "shell_fit/core/shell_mesh.hpp"
 #include "shell_fit/core/shell_params.hpp"
 
 namespace yarnfit::shell {
 
-class BendingTerm final : public EnergyTerm {
+class BendingTerm final : public numerics::EnergyTerm {
  public:
   static constexpr int dim = 3;
   static constexpr int parameter_count = 3;  // k_θ weft, bias, warp
@@ -56,9 +56,9 @@ class BendingTerm final : public EnergyTerm {
   BendingTerm(const ShellMesh& mesh, const BendingParams& params);
 
   [[nodiscard]] std::string name() const override { return "bending"; }
-  [[nodiscard]] double value(const Eigen::VectorXd& x) const override;
+  void add_value(const Eigen::VectorXd& x, double& energy) const override;
   void add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
-  void add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const override;
+  void add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, const numerics::HessianOptions& options) const override;
 
   // Adds ∂(∇E)/∂k_j into column j of `G` (#dofs × 3), j = weft, bias, warp.
   void add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const;

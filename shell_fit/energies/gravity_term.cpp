@@ -23,7 +23,7 @@ GravityTerm::GravityTerm(const ShellMesh& mesh, double areal_density, double g) 
   }
 }
 
-double GravityTerm::value(const Eigen::VectorXd& x) const {
+void GravityTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
   if (x.size() != dim * m_masses.size()) {
     throw std::invalid_argument("GravityTerm::value: expected " +
                                 std::to_string(dim * m_masses.size()) + " coordinates, got " +
@@ -31,7 +31,7 @@ double GravityTerm::value(const Eigen::VectorXd& x) const {
   }
   double e = 0.0;
   for (Eigen::Index v = 0; v < m_masses.size(); ++v) e += m_masses(v) * m_g * x(dim * v + 2);
-  return e;
+  energy += e;
 }
 
 void GravityTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
@@ -42,8 +42,8 @@ void GravityTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) con
   for (Eigen::Index v = 0; v < m_masses.size(); ++v) g(dim * v + 2) += m_masses(v) * m_g;
 }
 
-void GravityTerm::add_hessian(const Eigen::VectorXd& /*x*/, Triplets& /*h*/,
-                              bool /*project_psd*/) const {
+void GravityTerm::add_hessian(const Eigen::VectorXd& /*x*/, numerics::Triplets& /*h*/,
+                              const numerics::HessianOptions& /*options*/) const {
   // Linear energy: nothing to add.
 }
 

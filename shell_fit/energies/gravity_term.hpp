@@ -9,12 +9,12 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "shell_fit/core/energy_term.hpp"
+#include "numerics/terms/energy_term.hpp"
 #include "shell_fit/core/shell_mesh.hpp"
 
 namespace yarnfit::shell {
 
-class GravityTerm final : public EnergyTerm {
+class GravityTerm final : public numerics::EnergyTerm {
  public:
   static constexpr int dim = 3;
 
@@ -22,9 +22,9 @@ class GravityTerm final : public EnergyTerm {
   GravityTerm(const ShellMesh& mesh, double areal_density, double g = 9.81);
 
   [[nodiscard]] std::string name() const override { return "gravity"; }
-  [[nodiscard]] double value(const Eigen::VectorXd& x) const override;
+  void add_value(const Eigen::VectorXd& x, double& energy) const override;
   void add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
-  void add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const override;
+  void add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, const numerics::HessianOptions& options) const override;
 
   // Lumped vertex masses [kg], #V.
   [[nodiscard]] const Eigen::VectorXd& masses() const { return m_masses; }

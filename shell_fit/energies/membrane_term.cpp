@@ -6,13 +6,14 @@
 #include <string>
 
 #include "numerics/psd_projection.hpp"
+#include "numerics/terms/element_assembly.hpp"
 
 namespace yarnfit::shell {
 
 namespace {
 
 // Below this many elements the OpenMP team costs more than it saves.
-constexpr int parallel_threshold = 512;
+constexpr int k_parallel_threshold = 512;
 
 InplaneParams unit_params(int k) {
   InplaneParams p;
@@ -121,68 +122,42 @@ void check_size(const Eigen::VectorXd& x, int dofs, const char* what) {
   }
 }
 
+// One membrane element as a kernel of the assembler (numerics/terms/element_assembly.hpp),
+// for the working law or one of the unit-parameter laws.
 template <int Dim>
-double sum_values(const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m,
-                  const Eigen::VectorXd& x) {
-  const int count = static_cast<int>(elements.size());
-  std::vector<double> values(elements.size());
-  // Per-element values summed serially afterwards: the total does not depend on the thread
-  // count, which keeps line searches and finite-difference checks reproducible.
-#pragma omp parallel for schedule(static) if (count > parallel_threshold)
-  for (int t = 0; t < count; ++t) {
-    values[static_cast<std::size_t>(t)] =
-        Kernel<Dim>::value(m, elements[static_cast<std::size_t>(t)], x);
-  }
-  double total = 0.0;
-  for (const double v : values) total += v;
-  return total;
-}
-
-template <int Dim>
-void scatter_gradients(const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m,
-                       const Eigen::VectorXd& x, double* g) {
+struct MembraneKernel {
   using K = Kernel<Dim>;
-  const int count = static_cast<int>(elements.size());
-  std::vector<typename K::VectorL> local(elements.size());
-#pragma omp parallel for schedule(static) if (count > parallel_threshold)
-  for (int t = 0; t < count; ++t) {
-    local[static_cast<std::size_t>(t)] = K::gradient(m, elements[static_cast<std::size_t>(t)], x);
-  }
-  for (std::size_t t = 0; t < elements.size(); ++t) {
-    for (int i = 0; i < 3; ++i) {
-      const int v = elements[t].v[static_cast<std::size_t>(i)];
-      for (int k = 0; k < Dim; ++k) g[Dim * v + k] += local[t](Dim * i + k);
-    }
-  }
-}
+  static constexpr int nodes_per_element = 3;
+  static constexpr int dofs_per_node = Dim;
+  static constexpr numerics::ElementSum summation = numerics::ElementSum::per_term;
+  static constexpr bool zero_energy_is_inactive = false;
+  static constexpr int parallel_threshold = k_parallel_threshold;
 
-template <int Dim>
-void append_hessian(const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m,
-                    const Eigen::VectorXd& x, Triplets& h, bool project) {
-  using K = Kernel<Dim>;
-  constexpr int n = K::n;
-  const int count = static_cast<int>(elements.size());
-  const std::size_t start = h.size();
-  // Each element owns a fixed slice of the triplet list, so threads write without locks and
-  // the order is the same for any thread count.
-  h.resize(start + elements.size() * static_cast<std::size_t>(n * n));
-#pragma omp parallel for schedule(static) if (count > parallel_threshold)
-  for (int t = 0; t < count; ++t) {
-    const auto& e = elements[static_cast<std::size_t>(t)];
-    typename K::MatrixL block = K::hessian(m, e, x);
-    if (project) numerics::project_psd<n>(block);
-    std::size_t out = start + static_cast<std::size_t>(t) * static_cast<std::size_t>(n * n);
-    for (int i = 0; i < 3; ++i) {
-      for (int k = 0; k < Dim; ++k) {
-        const int row = Dim * e.v[static_cast<std::size_t>(i)] + k;
-        for (int j = 0; j < 3; ++j) {
-          for (int l = 0; l < Dim; ++l) {
-            const int col = Dim * e.v[static_cast<std::size_t>(j)] + l;
-            h[out++] = Eigen::Triplet<double>(row, col, block(Dim * i + k, Dim * j + l));
-          }
-        }
-      }
+  const std::vector<MembraneTerm::Element>& elements;
+  const InplaneMaterial& material;
+
+  [[nodiscard]] int element_count() const { return static_cast<int>(elements.size()); }
+  [[nodiscard]] std::array<int, 3> element_nodes(int e) const { return elements[static_cast<std::size_t>(e)].v; }
+  // The energy when no derivative is asked for; with derivatives it is not computed (0).
+  double element(int e, const Eigen::VectorXd& x, typename K::VectorL* gradient, typename K::MatrixL* hessian,
+                 bool project_psd) const {
+    const auto& el = elements[static_cast<std::size_t>(e)];
+    if (gradient != nullptr) *gradient = K::gradient(material, el, x);
+    if (hessian != nullptr) {
+      *hessian = K::hessian(material, el, x);
+      if (project_psd) numerics::project_psd<K::n>(*hessian);
     }
+    return gradient == nullptr && hessian == nullptr ? K::value(material, el, x) : 0.0;
+  }
+};
+
+// Calls f(kernel) with the kernel of the term's dimension.
+template <class F>
+void with_kernel(int dim, const std::vector<MembraneTerm::Element>& elements, const InplaneMaterial& m, F&& f) {
+  if (dim == 2) {
+    f(MembraneKernel<2>{elements, m});
+  } else {
+    f(MembraneKernel<3>{elements, m});
   }
 }
 
@@ -221,29 +196,20 @@ void MembraneTerm::set_params(const InplaneParams& params) {
   m_material = InplaneMaterial(params, m_material.material_angle());
 }
 
-double MembraneTerm::value(const Eigen::VectorXd& x) const {
+void MembraneTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
   check_size(x, dof_count(), "value");
-  return m_dim == 2 ? sum_values<2>(m_elements, m_material, x)
-                    : sum_values<3>(m_elements, m_material, x);
+  with_kernel(m_dim, m_elements, m_material, [&](const auto& k) { numerics::add_element_values(k, x, energy); });
 }
 
 void MembraneTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
   check_size(x, dof_count(), "add_gradient");
   check_size(g, dof_count(), "add_gradient (gradient buffer)");
-  if (m_dim == 2) {
-    scatter_gradients<2>(m_elements, m_material, x, g.data());
-  } else {
-    scatter_gradients<3>(m_elements, m_material, x, g.data());
-  }
+  with_kernel(m_dim, m_elements, m_material, [&](const auto& k) { numerics::add_element_gradients(k, x, g.data()); });
 }
 
-void MembraneTerm::add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const {
+void MembraneTerm::add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, const numerics::HessianOptions& options) const {
   check_size(x, dof_count(), "add_hessian");
-  if (m_dim == 2) {
-    append_hessian<2>(m_elements, m_material, x, h, project_psd);
-  } else {
-    append_hessian<3>(m_elements, m_material, x, h, project_psd);
-  }
+  with_kernel(m_dim, m_elements, m_material, [&](const auto& k) { numerics::add_element_hessians(k, x, h, options); });
 }
 
 void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
@@ -254,13 +220,9 @@ void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::M
                                 std::to_string(G.rows()) + " x " + std::to_string(G.cols()));
   }
   for (int k = 0; k < parameter_count; ++k) {
-    const auto& m = m_unit_materials[static_cast<std::size_t>(k)];
     double* column = G.col(k).data();  // column-major: a column is contiguous
-    if (m_dim == 2) {
-      scatter_gradients<2>(m_elements, m, x, column);
-    } else {
-      scatter_gradients<3>(m_elements, m, x, column);
-    }
+    with_kernel(m_dim, m_elements, m_unit_materials[static_cast<std::size_t>(k)],
+                [&](const auto& kernel) { numerics::add_element_gradients(kernel, x, column); });
   }
 }
 
@@ -268,8 +230,10 @@ Eigen::Matrix<double, 6, 1> MembraneTerm::value_per_parameter(const Eigen::Vecto
   check_size(x, dof_count(), "value_per_parameter");
   Eigen::Matrix<double, 6, 1> v;
   for (int k = 0; k < parameter_count; ++k) {
-    const auto& m = m_unit_materials[static_cast<std::size_t>(k)];
-    v(k) = m_dim == 2 ? sum_values<2>(m_elements, m, x) : sum_values<3>(m_elements, m, x);
+    double e = 0.0;
+    with_kernel(m_dim, m_elements, m_unit_materials[static_cast<std::size_t>(k)],
+                [&](const auto& kernel) { numerics::add_element_values(kernel, x, e); });
+    v(k) = e;
   }
   return v;
 }

@@ -22,14 +22,14 @@
 #include <string>
 #include <vector>
 
-#include "shell_fit/core/energy_term.hpp"
+#include "numerics/terms/energy_term.hpp"
 #include "shell_fit/core/shell_mesh.hpp"
 #include "shell_fit/core/shell_params.hpp"
 #include "shell_fit/energies/inplane_material.hpp"
 
 namespace yarnfit::shell {
 
-class MembraneTerm final : public EnergyTerm {
+class MembraneTerm final : public numerics::EnergyTerm {
  public:
   static constexpr int parameter_count = 6;  // kxx, kxy, kyy, kss, kn1, kn2
 
@@ -38,9 +38,9 @@ class MembraneTerm final : public EnergyTerm {
   MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, int dim);
 
   [[nodiscard]] std::string name() const override { return "membrane"; }
-  [[nodiscard]] double value(const Eigen::VectorXd& x) const override;
+  void add_value(const Eigen::VectorXd& x, double& energy) const override;
   void add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
-  void add_hessian(const Eigen::VectorXd& x, Triplets& h, bool project_psd) const override;
+  void add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, const numerics::HessianOptions& options) const override;
 
   // Adds ∂(∇E)/∂p_k into column k of `G` (#dofs × 6), p = (kxx, kxy, kyy, kss, kn1, kn2).
   void add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const;

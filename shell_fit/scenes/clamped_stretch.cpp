@@ -5,8 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
+#include "numerics/roots/bracketed_root.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
 #include "shell_fit/mesh/rect_mesh.hpp"
 
@@ -135,7 +137,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
   options.max_iterations = 40;
   // Residual forces below 1e-9 of the force a unit strain would need are numerical noise.
   const double force_scale = std::max({params.kxx, params.kyy, params.kxy, params.kss, 1e-12}) * m_setup.width;
-  options.gradient_tolerance = 1e-9 * force_scale;
+  options.tolerance = 1e-9 * force_scale;
 
   auto solve_at = [&](double u) -> bool {
     Eigen::VectorXd trial = x;
@@ -216,58 +218,52 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
         solved = true;
       }
     }
-    // Clamp stretch u with measured(u) = target: exact without gauge marks, else secant.
-    if (!solved) {
-      u = m_stretch_from_clamps ? target : u_prev + (target - measured(x, nullptr));
-      if (!solve_at(u)) return out;
-    }
-    if (!m_stretch_from_clamps) {
-      // Safeguarded secant on u: the gauge stretch grows with the clamp stretch, so every
-      // solved point narrows a bracket [lo, hi] of u, and a step that leaves it (a poor slope
-      // far from the solution) is replaced by bisection. No step more than halves or doubles
-      // the clamp length.
-      const double tol = 1e-10 * (1.0 + std::abs(target));
-      double lo = -1.0, hi = std::numeric_limits<double>::infinity();
-      const auto bracket = [&](double uu, double mm) {
-        if (mm < target) lo = std::max(lo, uu);
-        else hi = std::min(hi, uu);
-      };
-      const auto next_u = [&](double u_from, double m_from) {
-        const double down = -0.5 * (1.0 + u_from), up = 1.0 + u_from;  // the step limits
-        double step = slope > 0.0 ? (target - m_from) / slope
-                                  : std::copysign(1e-3 * (1.0 + std::abs(u_from)), target - m_from);
-        const double u_next = u_from + std::clamp(step, down, up);
-        if (u_next > lo && u_next < hi) return u_next;
-        return 0.5 * (std::max(lo, u_from + down) + std::min(hi, u_from + up));
-      };
-      double u_a = u, m_a = measured(x, nullptr);
-      bracket(u_a, m_a);
-      double u_b = next_u(u_a, m_a);
-      for (int it = 0; it < 30 && std::abs(m_a - target) > tol; ++it) {
-        if (!solve_at(u_b)) return out;
-        const double m_b = measured(x, nullptr);
-        bracket(u_b, m_b);
-        if (std::abs(m_b - target) <= tol) break;
-        // The secant slope, unless the two points are so close that solver noise dominates it.
-        if (std::abs(u_b - u_a) > 1e-7 * (1.0 + std::abs(u_b)) || !(slope > 0.0)) {
-          const double secant = (m_b - m_a) / (u_b - u_a);
-          if (secant > 0.0) slope = secant;
-        }
-        if (!(slope > 1e-12)) {
-          out.message = "gauge stretch does not respond to the clamp stretch";
-          return out;
-        }
-        u_a = u_b;
-        m_a = m_b;
-        u_b = next_u(u_a, m_a);
+    // Clamp stretch u with measured(u) = target: exact without gauge marks; with them the
+    // gauge stretch grows with the clamp stretch, and the root finder (numerics/roots)
+    // solves measured(u) = target from the warm start's u, each evaluation an equilibrium
+    // warm-started from the last. Its first step uses the slope the warm start remembers.
+    if (m_stretch_from_clamps) {
+      if (!solved) {
+        u = target;
+        if (!solve_at(u)) return out;
+      }
+      slope = 1.0;
+    } else {
+      if (!solved) u = u_prev + (target - measured(x, nullptr));
+      double u_last = std::nan(""), m_last = std::nan(""), u_before = std::nan(""), m_before = std::nan("");
+      numerics::RootFindOptions ro;
+      ro.lower = -0.5;  // the clamps never pass half the free length's compression
+      ro.upper = 10.0;
+      ro.initial_step = 1e-3 * (1.0 + std::abs(u));
+      ro.initial_slope = slope > 0.0 ? slope : 0.0;
+      ro.x_tolerance = 1e-13;
+      ro.f_tolerance = 1e-10 * (1.0 + std::abs(target));
+      ro.max_evaluations = 31;
+      const numerics::RootResult root = numerics::find_root(
+          [&](double uu) -> std::optional<double> {
+            // The state is already the equilibrium at u_prev (a warm or earlier solve).
+            if (!(solved && uu == u_prev) && !solve_at(uu)) return std::nullopt;
+            solved = true;
+            u_before = u_last;
+            m_before = m_last;
+            u_last = uu;
+            m_last = measured(x, nullptr);
+            return m_last - target;
+          },
+          u, ro);
+      if (root.status == numerics::RootStatus::evaluation_failed) return out;  // solve_at said why
+      // The secant of the last two solves: the next run's first step.
+      if (std::isfinite(u_before) && std::abs(u_last - u_before) > 1e-7 * (1.0 + std::abs(u_last))) {
+        const double secant = (m_last - m_before) / (u_last - u_before);
+        if (secant > 0.0) slope = secant;
       }
       u = u_prev;
       if (!(std::abs(measured(x, nullptr) - target) <= 1e-6 * (1.0 + std::abs(target)))) {
-        out.message = "gauge stretch " + std::to_string(target) + " not reached (clamp stretch " + std::to_string(u) + ")";
+        out.message = "gauge stretch " + std::to_string(target) + " not reached (clamp stretch " + std::to_string(u) +
+                      ", " + numerics::to_string(root.status) + " after " + std::to_string(root.evaluations) +
+                      " solves)";
         return out;
       }
-    } else {
-      slope = 1.0;
     }
 
     ClampedStretchSample sample;

@@ -33,7 +33,7 @@
 
 #include "shell_fit/core/shell_mesh.hpp"
 #include "shell_fit/core/shell_params.hpp"
-#include "shell_fit/solver/newton.hpp"
+#include "shell_fit/solver/static_equilibrium.hpp"
 
 namespace yarnfit::shell {
 

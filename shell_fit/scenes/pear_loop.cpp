@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "numerics/roots/bracketed_root.hpp"
 #include "shell_fit/energies/bending_term.hpp"
 #include "shell_fit/energies/gravity_term.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
@@ -151,15 +153,20 @@ Eigen::VectorXd PearLoopScene::initial_state(double clamp_distance) const {
   constexpr int segments = 2000;
   // ∫₀^S cos θ ds decreases with a while θ stays in (−π, 0) (a ∈ [−0.5, 1.5]: the loop goes
   // from a wide U, d ≈ 0.8 L, to a pear whose ends cross, d < 0).
-  double lo = -0.5, hi = 1.5;
-  if (half_loop(S, lo, segments).x.back() < 0.5 * d || half_loop(S, hi, segments).x.back() > 0.5 * d)
+  constexpr double lo = -0.5, hi = 1.5;
+  const auto misses = [&](double a) { return 0.5 * d - half_loop(S, a, segments).x.back(); };  // increasing in a
+  if (misses(lo) > 0.0 || misses(hi) < 0.0)
     throw std::invalid_argument("pear loop: no loop of length " + std::to_string(L) + " m closes at clamp distance " +
                                 std::to_string(d) + " m");
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (half_loop(S, mid, segments).x.back() > 0.5 * d ? lo : hi) = mid;
-  }
-  const HalfLoop h = half_loop(S, 0.5 * (lo + hi), segments);
+  numerics::RootFindOptions ro;
+  ro.lower = lo;
+  ro.upper = hi;
+  ro.initial_step = 0.25;
+  ro.x_tolerance = 1e-14;
+  ro.max_evaluations = 200;
+  const numerics::RootResult bulge =
+      numerics::find_root([&](double a) -> std::optional<double> { return misses(a); }, 0.5 * (lo + hi), ro);
+  const HalfLoop h = half_loop(S, bulge.x, segments);
   const auto at = [&](double s, double& x, double& z) {
     // s ∈ [0, S] along the left half, linear between the samples.
     const double u = std::clamp(s / h.ds, 0.0, static_cast<double>(segments));
@@ -231,7 +238,7 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
   const double k_max = std::max({params.bending.ktheta[0], params.bending.ktheta[1], params.bending.ktheta[2], 0.0});
   const double force_scale = m_setup.areal_density * m_setup.gravity * L * W +
                              bending_stiffness_per_width(k_max) * W / (L * L);
-  options.gradient_tolerance = 1e-8 * std::max(force_scale, 1e-300);
+  options.tolerance = 1e-8 * std::max(force_scale, 1e-300);
 
   // Free-DOF numbering for the sensitivities.
   std::vector<int> free_index(idx(n), 0);
@@ -287,7 +294,7 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
       solved = summary.converged();
     }
     sample.converged = solved;
-    sample.residual = summary.gradient_norm;
+    sample.residual = summary.residual;
     if (!solved) sample.message = "equilibrium at clamp distance " + std::to_string(d) + " m failed: " + summary.brief();
 
     const Shape shape = measure(x);

@@ -30,7 +30,7 @@
 // vertical ends at x = ±d/2: tangent angle (from +x, in the x–z plane) along the left half
 //   θ(s) = −π/2 + (π/2)(s/S) − a sin(π s/S),   S = L/2,
 // from straight down at the clamp to horizontal at the bottom; a > 0 bulges the loop outwards
-// first (the pear), and a is found by bisection so that the half loop closes at x = 0:
+// first (the pear), and a is found by the root finder (numerics/roots) so that the half loop closes at x = 0:
 // ∫₀^S cos θ ds = d/2. The right half mirrors the left. Newton then finds the equilibrium.
 //
 // Sensitivities (for the fit): at equilibrium g_f(x, k) = 0, so dx_f/dk = −H_ff⁻¹ ∂g_f/∂k
@@ -58,7 +58,7 @@
 
 #include "shell_fit/core/shell_mesh.hpp"
 #include "shell_fit/core/shell_params.hpp"
-#include "shell_fit/solver/newton.hpp"
+#include "shell_fit/solver/static_equilibrium.hpp"
 
 namespace yarnfit::shell {
 

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "fabrics_db/tile/periodic_tile.hpp"
-#include "fabrics_db/tile/segment_distance.hpp"
 #include "fabrics_db/tile/synthetic_stockinette.hpp"
 #include "tests/test_support.hpp"
 
@@ -60,28 +59,6 @@ void expect_same_facts(const TileFacts& a, const TileFacts& b, double length_sca
   EXPECT_NEAR(a.area, b.area, 1e-12 * a.area);
   EXPECT_NEAR(a.r_est, b.r_est, tol);
   EXPECT_NEAR(a.min_contact_distance, b.min_contact_distance, tol);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Segment distances.
-
-TEST(TileFactsSegmentDistance, KnownConfigurations) {
-  // Skew segments crossing at right angles, 0.3 apart in z.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({-1, 0, 0}, {1, 0, 0}, {0, -1, 0.3}, {0, 1, 0.3}), 0.3);
-  // Parallel, overlapping in x: the line distance.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({0, 0, 0}, {2, 0, 0}, {1, 0.5, 0}, {3, 0.5, 0}), 0.5);
-  // Parallel and anti-parallel without overlap: end to end.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({0, 0, 0}, {1, 0, 0}, {4, 4, 0}, {2, 4, 0}), std::hypot(1.0, 4.0));
-  // Collinear with a gap.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({0, 0, 0}, {1, 0, 0}, {1.25, 0, 0}, {3, 0, 0}), 0.25);
-  // Closest points of the lines outside both segments: an end point decides.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({0, 0, 0}, {1, 0, 0}, {2, 1, 0}, {2, 3, 0}), std::hypot(1.0, 1.0));
-  // T: the end of one touches the middle of the other.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({0, 0, 0}, {2, 0, 0}, {1, 0, 0}, {1, 5, 0}), 0.0);
-  // A degenerate segment is a point.
-  EXPECT_DOUBLE_EQ(segment_segment_distance({1, 1, 1}, {1, 1, 1}, {0, 0, 0}, {2, 0, 0}), std::sqrt(2.0));
-  // Nearly parallel: no worse than the exact answer (0.5 at the near end) by more than rounding.
-  EXPECT_NEAR(segment_segment_distance({0, 0, 0}, {1, 0, 0}, {0, 0.5, 0}, {1, 0.5 + 1e-13, 0}), 0.5, 1e-15);
 }
 
 // ---------------------------------------------------------------------------------------------

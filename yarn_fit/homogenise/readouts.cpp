@@ -1,11 +1,15 @@
 #include "yarn_fit/homogenise/readouts.hpp"
 
-#include <nlopt.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "numerics/optim/cobyla.hpp"
+#include "numerics/roots/bracketed_root.hpp"
 
 namespace yarnfit::yarn {
 
@@ -14,13 +18,13 @@ Sample simulate_sample(YarnSystem& system, const CoarseDeformation& chi, Eigen::
   const auto start = std::chrono::steady_clock::now();
   Sample s;
   s.chi = chi;
-  s.effects = system.effects().names(chi);
   system.set_deformation(chi);
+  s.effects = system.effects();
   Eigen::VectorXd work = g;
   s.last_solve = solve_equilibrium(system, work, options);
   s.solves = 1;
   s.newton_iterations = s.last_solve.iterations;
-  s.ok = s.last_solve.converged;
+  s.ok = s.last_solve.converged();
   if (s.ok) {
     g = work;
     s.energy_density = s.last_solve.energy / system.area();
@@ -33,7 +37,7 @@ Sample simulate_sample(YarnSystem& system, const CoarseDeformation& chi, Eigen::
       s.stress_c = system.d_energy_density(g, YarnSystem::Coordinate::compression);
     }
   } else {
-    s.message = std::string("equilibrium ") + to_string(s.last_solve.reason) + ": " + s.last_solve.message;
+    s.message = std::string("equilibrium ") + to_string(s.last_solve.status) + ": " + s.last_solve.message;
   }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
@@ -80,14 +84,6 @@ struct CompressionSearch {
   }
 };
 
-double cobyla_objective(unsigned n, const double* x, double* grad, void* data) {
-  (void)n;
-  (void)grad;
-  auto* search = static_cast<CompressionSearch*>(data);
-  const Sample s = search->at(x[0]);
-  return s.ok ? s.energy_density : std::numeric_limits<double>::max();
-}
-
 }  // namespace
 
 Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::VectorXd& g,
@@ -97,103 +93,52 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
                            std::numeric_limits<double>::infinity()};
   Sample result;
   if (co.method == CompressionMethod::cobyla) {
-    nlopt::opt opt(nlopt::LN_COBYLA, 1);
-    opt.set_lower_bounds(std::vector<double>{co.lower});
-    opt.set_upper_bounds(std::vector<double>{co.upper});
-    opt.set_min_objective(cobyla_objective, &search);
-    opt.set_xtol_abs(co.tolerance);
-    opt.set_maxeval(co.max_evaluations);
-    opt.set_initial_step(0.05);
-    std::vector<double> x{std::clamp(co.initial_guess, co.lower, co.upper)};
-    double fmin = 0.0;
-    try {
-      opt.optimize(x, fmin);
-    } catch (const std::exception&) {
-      // fall through: the best point seen is kept below
-    }
+    // min Ψ(c) over [lower, upper], as in the thesis; a failed solve is a failed evaluation.
+    numerics::CobylaSettings cs;
+    cs.max_evaluations = co.max_evaluations;
+    cs.initial_step = 0.05;
+    cs.x_tolerance = co.tolerance;
+    const numerics::Objective psi = [&](const Eigen::VectorXd& c) {
+      const Sample s = search.at(c[0]);
+      if (!s.ok) throw std::runtime_error(s.message);
+      return s.energy_density;
+    };
+    const numerics::CobylaSummary r =
+        numerics::run_cobyla(psi, Eigen::VectorXd::Constant(1, std::clamp(co.initial_guess, co.lower, co.upper)),
+                             Eigen::VectorXd::Constant(1, co.lower), Eigen::VectorXd::Constant(1, co.upper), cs);
     result = search.best;
     result.ok = std::isfinite(search.best_psi);
-    if (!result.ok) result.message = "no compression with a converged equilibrium";
+    if (!result.ok) result.message = "no compression with a converged equilibrium (" + r.message + ")";
   } else {
-    // Root of f(c) = ∂Ψ/∂c: bracket from the initial guess outwards, then Illinois
-    // (regula falsi with halving), which keeps the bracket and converges superlinearly.
-    double a = std::clamp(co.initial_guess, co.lower, co.upper);
-    Sample sa = search.at(a);
-    if (!sa.ok) {
-      result = sa;
-      result.message = "compression search: " + sa.message;
-    } else if (std::abs(sa.stress_c) <= co.stress_tolerance) {
-      result = sa;  // already free of orthogonal stress within the tolerance
-    } else {
-      double fa = sa.stress_c;
-      double step = co.initial_step * (fa < 0.0 ? 1.0 : -1.0);  // Ψ decreases towards larger c when f < 0
-      double b = a;
-      double fb = fa;
-      Sample sb = sa;
-      bool bracketed = false;
-      while (search.evaluations < co.max_evaluations) {
-        // After two evaluations on one side, aim the next one past the secant's root
-        // (by 10 % of the way, so that it brackets) instead of doubling blindly: warm curve
-        // points start close to c*, where the secant is accurate.
-        if (b != a && fb != fa) {
-          const double to_root = -fb * (b - a) / (fb - fa);
-          if (to_root * step > 0.0) step = std::clamp(1.1 * to_root, 0.25 * step, 4.0 * step);
-        }
-        const double next = std::clamp(b + step, co.lower, co.upper);
-        if (next == b) break;
-        a = b;
-        fa = fb;
-        sa = sb;
-        b = next;
-        sb = search.at(b);
-        if (!sb.ok) break;
-        fb = sb.stress_c;
-        if ((fa < 0.0) != (fb < 0.0) || std::abs(fb) <= co.stress_tolerance) {
-          bracketed = true;
-          break;
-        }
-        step *= 2.0;
-      }
-      if (!bracketed) {
-        result = search.failed ? search.last : sb;
-        result.ok = false;
-        result.message = search.failed ? "compression search: " + search.last.message
-                                       : "no zero of the orthogonal stress in [" + std::to_string(co.lower) +
-                                             ", " + std::to_string(co.upper) + "]";
-      } else {
-        int side = 0;
-        Sample sc = sb;
-        double previous = b;
-        while (search.evaluations < co.max_evaluations && std::abs(b - a) > co.tolerance &&
-               std::abs(sc.stress_c) > co.stress_tolerance) {
-          const double c = (a * fb - b * fa) / (fb - fa);
-          // Regula falsi keeps one end of the bracket: stop once the iterate itself settles.
-          if (std::abs(c - previous) <= 0.1 * co.tolerance) break;
-          previous = c;
-          sc = search.at(c);
-          if (!sc.ok) break;
-          const double fc = sc.stress_c;
-          if ((fc < 0.0) == (fb < 0.0)) {
-            b = c;
-            fb = fc;
-            if (side == -1) fa *= 0.5;
-            side = -1;
-          } else {
-            a = c;
-            fa = fc;
-            if (side == 1) fb *= 0.5;
-            side = 1;
-          }
-          if (fc == 0.0) break;
-        }
-        result = sc;
-        if (!sc.ok) result.message = "compression search: " + sc.message;
-        else if (std::abs(b - a) > co.tolerance && std::abs(sc.stress_c) > co.stress_tolerance &&
-                 search.evaluations >= co.max_evaluations) {
-          result.ok = false;
-          result.message = "compression search: evaluation limit before the tolerance";
-        }
-      }
+    // Root of f(c) = ∂Ψ/∂c (increasing: Ψ is convex in c near its minimum), from the guess
+    // outwards, then Illinois (numerics/roots/bracketed_root.hpp).
+    numerics::RootFindOptions ro;
+    ro.lower = co.lower;
+    ro.upper = co.upper;
+    ro.initial_step = co.initial_step;
+    ro.x_tolerance = co.tolerance;
+    ro.f_tolerance = co.stress_tolerance;
+    ro.max_evaluations = co.max_evaluations;
+    const numerics::RootResult root = numerics::find_root(
+        [&](double c) -> std::optional<double> {
+          const Sample s = search.at(c);
+          if (!s.ok) return std::nullopt;
+          return s.stress_c;
+        },
+        co.initial_guess, ro);
+    result = search.last;
+    result.ok = root.converged();
+    switch (root.status) {
+      case numerics::RootStatus::converged: break;
+      case numerics::RootStatus::evaluation_failed: result.message = "compression search: " + search.last.message; break;
+      case numerics::RootStatus::not_bracketed:
+        result.message = "no zero of the orthogonal stress in [" + std::to_string(co.lower) + ", " +
+                         std::to_string(co.upper) + "]";
+        break;
+      case numerics::RootStatus::evaluation_limit:
+        result.message = "compression search: evaluation limit (" + std::to_string(co.max_evaluations) +
+                         " solves) before the tolerance";
+        break;
     }
   }
   if (result.ok) g = co.method == CompressionMethod::cobyla ? search.best_g : search.g;

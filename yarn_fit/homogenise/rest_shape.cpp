@@ -71,7 +71,7 @@ void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions
     Eigen::VectorXd state = g;
     EquilibriumResult solve;
     const Eigen::VectorXd pk = evaluate(h * Eigen::VectorXd::Unit(n, k), state, solve);
-    if (!solve.converged) return restore_base();
+    if (!solve.converged()) return restore_base();
     jacobian.col(k) = (pk - p0) / h;
   }
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(jacobian);
@@ -85,7 +85,7 @@ void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions
     Eigen::VectorXd state = best_g;
     EquilibriumResult solve;
     p = evaluate(e, state, solve);
-    if (!solve.converged) break;
+    if (!solve.converged()) break;
     if (p.cwiseAbs().maxCoeff() < best) {
       best = p.cwiseAbs().maxCoeff();
       best_e = e;
@@ -119,7 +119,7 @@ RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const R
   // The last reset changed the rest shape: relax once more, to convergence, and measure.
   out.last_solve = solve_equilibrium(system, g, options.solve);
   out.newton_iterations += out.last_solve.iterations;
-  out.converged = out.last_solve.converged;
+  out.converged = out.last_solve.converged();
   out.rest_stress = system.coarse_stress(g);
   out.stress_before_period = out.rest_stress;
   if (options.relax_period && out.converged) relax_period(system, g, options, out);

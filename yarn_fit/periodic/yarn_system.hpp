@@ -4,10 +4,11 @@
 // co-rotated fluctuations of coarse_map.hpp). Elements are the canonical periodic elements
 // of yarn_tile.hpp; their derivatives are mapped to g through x = Φ + R g.
 //
-// Effects (SPEC §4): stretch, bending and contact are separate pieces that a scene switches
-// on; a system simulates exactly those. Twist is not modelled (thesis 6.6: negligible for
-// these fits; SPEC §3: off by default), so the twist DOFs and the zero-total-twist
-// constraint of 3.3.3 do not arise.
+// A scene is a list of terms (SPEC §4): the system simulates exactly the yarn terms it is
+// given — stretch (yarn_stretch_term.hpp), bending (yarn_bending_term.hpp) and contact
+// (contact/contact_term.hpp) — and its effects are their names, plus "co-rotation" when
+// κ ≠ 0. Twist is not modelled (thesis 6.6: negligible for these fits; SPEC §3: off by
+// default), so the twist DOFs and the zero-total-twist constraint of 3.3.3 do not arise.
 //
 // Constraints C g = 0 (3.19, 3.29), linear and independent of χ:
 //  * zero mean fluctuation: Σ_v g_v = 0 (3 rows);
@@ -18,44 +19,42 @@
 //    form removes the same null space and keeps the constraint fixed, so the stress (3.23)
 //    needs no constraint-force term.
 //
-// Contacts use a Verlet list: candidate segment pairs within the cutoff plus a skin of 1.5 R1,
-// rebuilt before any vertex could have moved by half the skin since the last build.
+// Contacts use a Verlet list (contact/contact_candidates.hpp): candidate segment pairs
+// within the cutoff plus a skin of 1.5 R1, rebuilt before any vertex could have moved by half
+// the skin since the last build.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "yarn_fit/energies/yarn_elements.hpp"
+#include "numerics/terms/scene.hpp"
+#include "yarn_fit/contact/contact_candidates.hpp"
+#include "yarn_fit/contact/contact_term.hpp"
+#include "yarn_fit/energies/yarn_term.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
 #include "yarn_fit/periodic/coarse_map.hpp"
+#include "yarn_fit/periodic/tile_placement.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 
 namespace yarnfit::yarn {
 
-struct Effects {
-  bool stretch = true;
-  bool bending = true;
-  bool contact = true;
-  // Names of the simulated effects for result records, e.g. {"stretch", "bending",
-  // "contact", "co-rotation"} ("co-rotation" when κ ≠ 0).
-  [[nodiscard]] std::vector<std::string> names(const CoarseDeformation& chi) const;
-};
-
-struct ContactCandidate {
-  int a = 0;  // edge in cell (0, 0)
-  int b = 0;  // edge in `cell`
-  Cell cell;
-};
+// The yarn energy terms a scene may list.
+enum class YarnTermKind { stretch, bending, contact };
+// All three, in the order the energy sums them.
+[[nodiscard]] std::vector<YarnTermKind> all_yarn_terms();
 
 class YarnSystem {
  public:
-  using Triplets = std::vector<Eigen::Triplet<double>>;
+  using Triplets = numerics::Triplets;
 
-  // Same-yarn segment pairs closer than this many R1 of rest arc do not interact.
-  static constexpr double kSelfContactArcFactor = 2.5;
-
-  YarnSystem(YarnTile tile, const YarnParams& params, const Effects& effects = {});
+  YarnSystem(YarnTile tile, const YarnParams& params, std::vector<YarnTermKind> terms = all_yarn_terms());
+  // Copies rebuild their terms on their own tile, placements and contact list (a move is a
+  // copy: the terms point into the object).
+  YarnSystem(const YarnSystem& other);
+  YarnSystem& operator=(const YarnSystem& other);
+  ~YarnSystem();
 
   void set_deformation(const CoarseDeformation& chi);
   [[nodiscard]] const CoarseDeformation& deformation() const { return m_map.deformation(); }
@@ -67,12 +66,18 @@ class YarnSystem {
   // Replaces the tile (same vertices and elements, e.g. a transformed_tile): placements,
   // constraints and contacts follow.
   void set_tile(YarnTile tile);
-  [[nodiscard]] const Effects& effects() const { return m_effects; }
+
+  // The terms assembled, in order, and the scene's effects: their names, plus "co-rotation"
+  // when the current χ is curved.
+  [[nodiscard]] const numerics::TermList& terms() const { return m_term_list; }
+  [[nodiscard]] std::vector<std::string> effects() const;
 
   [[nodiscard]] int dof_count() const { return 3 * m_tile.vertex_count(); }
   [[nodiscard]] double area() const { return m_tile.area(); }
   // Deformed position of vertex v copied into `cell`.
-  [[nodiscard]] Eigen::Vector3d position(const Eigen::VectorXd& g, int v, const Cell& cell) const;
+  [[nodiscard]] Eigen::Vector3d position(const Eigen::VectorXd& g, int v, const Cell& cell) const {
+    return m_placement.position(g, v, cell);
+  }
 
   // Total energy E [J] of the tile (Ψ = E / area); +inf where a barrier is crossed.
   [[nodiscard]] double energy(const Eigen::VectorXd& g) const;
@@ -83,11 +88,8 @@ class YarnSystem {
   // assembly and sorting work).
   void hessian(const Eigen::VectorXd& g, Triplets& out, bool project_psd, bool lower_only = false) const;
 
-  // Per-term energies [J] for reports: stretch, bending, contact.
-  struct Breakdown {
-    double stretch = 0.0, bending = 0.0, contact = 0.0;
-  };
-  [[nodiscard]] Breakdown energy_breakdown(const Eigen::VectorXd& g) const;
+  // Energy of each term [J], by name, for reports ({"stretch", 1.2e-9}, …).
+  [[nodiscard]] std::vector<std::pair<std::string, double>> energy_by_term(const Eigen::VectorXd& g) const;
 
   // Coarse first Piola-Kirchhoff stress P = ∂Ψ/∂F at fixed g (3.23) [N/m], in-plane 2×2.
   // Exact for κ = 0; for κ ≠ 0 it is the in-plane part of the same sum (the derivative of
@@ -101,51 +103,35 @@ class YarnSystem {
   // Constraint rows C (g-space), dense: 3 + number of pinned yarns.
   [[nodiscard]] const Eigen::MatrixXd& constraints() const { return m_constraints; }
 
-  // Contact candidates (Verlet list).
+  // Contact candidates (Verlet list); without a contact term the list stays empty.
   void rebuild_contacts(const Eigen::VectorXd& g);
-  // True when the list may miss a pair after a further move of up to `pending_step` [m]:
-  // it holds while every vertex moved less than skin/2 since the build.
+  // True when the list may miss a pair after a further move of up to `pending_step` [m].
   [[nodiscard]] bool contacts_stale(const Eigen::VectorXd& g, double pending_step) const;
-  [[nodiscard]] const std::vector<ContactCandidate>& contacts() const { return m_contacts; }
-  [[nodiscard]] double contact_skin() const { return m_skin; }
-  [[nodiscard]] int contact_generation() const { return m_contact_generation; }
+  [[nodiscard]] const ContactCandidates& contacts() const { return m_candidates; }
   // Largest t ∈ (0, 1] such that moving g by t·dg keeps every candidate pair at least half
-  // its current segment distance apart (conservative: distances shrink at most by the
-  // relative motion of the four vertices). Never lets a step cross a barrier.
-  [[nodiscard]] double collision_free_fraction(const Eigen::VectorXd& g,
-                                               const Eigen::VectorXd& dg) const;
+  // its current segment distance apart (the contact term's collision-free step; 1 without
+  // contact). Never lets a step cross a barrier.
+  [[nodiscard]] double collision_free_fraction(const Eigen::VectorXd& g, const Eigen::VectorXd& dg) const;
   // Smallest centreline distance between contact candidates [m] (+inf with no candidates).
   [[nodiscard]] double min_contact_distance(const Eigen::VectorXd& g) const;
 
  private:
-  static constexpr int kCells = 3;  // placements cached for cells in [-3, 3]²
-
-  struct Placement {
-    Eigen::Vector3d base;
-    Eigen::Matrix3d rotation;
-  };
-  [[nodiscard]] const Placement& placement(int v, const Cell& cell) const;
-  void prepare_placements(const CoarseMap& map, std::vector<Placement>& out) const;
-  template <class Visitor>
-  void for_each_element(const Eigen::VectorXd& g, Visitor&& visit) const;
-  [[nodiscard]] double energy_with(const Eigen::VectorXd& g, const CoarseDeformation& chi) const;
+  void build_terms();
   void build_constraints();
+  [[nodiscard]] double energy_with(const Eigen::VectorXd& g, const CoarseDeformation& chi) const;
+  [[nodiscard]] double contact_skin() const { return 1.5 * std::max(m_params.r1, m_params.r2); }
 
   YarnTile m_tile;
   YarnParams m_params;
-  Effects m_effects;
+  std::vector<YarnTermKind> m_kinds;
   CoarseMap m_map;
-  std::vector<Placement> m_placements;
-  BiphasicStretch m_stretch;
-  RodBending m_bending;
-  TwoBarrierContact m_contact;
+  TilePlacement m_placement;
+  ContactCandidates m_candidates;
   Eigen::MatrixXd m_constraints;
-
-  std::vector<ContactCandidate> m_contacts;
-  Eigen::VectorXd m_contacts_built_at;
-  bool m_contacts_valid = false;
-  double m_skin = 0.0;
-  int m_contact_generation = 0;
+  // The terms read m_tile, m_placement and m_candidates: they are rebuilt on copy.
+  std::vector<std::unique_ptr<YarnTerm>> m_terms;
+  numerics::TermList m_term_list;
+  const ContactTerm* m_contact = nullptr;  // the contact term when listed
 };
 
 }  // namespace yarnfit::yarn

@@ -1,0 +1,432 @@
+#include "numerics/newton/newton_solver.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace yarnfit::numerics {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// The lower triangle of H with an explicit diagonal, factorised as H + μ·d̄·I with d̄ the
+// mean |diagonal|. The symbolic analysis (fill-reducing ordering, elimination tree) is kept
+// while the pattern stays the same: it changes only when a contact pair enters or leaves.
+class ShiftedFactorisation {
+ public:
+  // Builds the matrix from `lower` (row ≥ column, duplicates summed in order) plus zeros on
+  // the diagonal.
+  void assemble(int n, Triplets& lower) {
+    m_n = n;
+    for (int i = 0; i < n; ++i) lower.emplace_back(i, i, 0.0);
+    m_matrix.resize(n, n);
+    m_matrix.setFromTriplets(lower.begin(), lower.end());
+    m_base.assign(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros());
+    // Sorted column-major lower triangle: each column's diagonal is its first entry.
+    double sum = 0.0;
+    for (int j = 0; j < n; ++j) sum += std::abs(m_base[static_cast<std::size_t>(m_matrix.outerIndexPtr()[j])]);
+    m_scale = n > 0 ? sum / n : 1.0;
+    if (!(m_scale > 0.0)) m_scale = 1.0;  // an all-zero diagonal: shifts relative to 1
+  }
+
+  // Smallest diagonal entry relative to d̄: a matrix with a non-positive diagonal entry
+  // cannot be positive definite.
+  [[nodiscard]] double relative_min_diagonal() const {
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < m_n; ++j)
+      lowest = std::min(lowest, m_base[static_cast<std::size_t>(m_matrix.outerIndexPtr()[j])]);
+    return lowest / m_scale;
+  }
+
+  // Factorises H + shift·d̄·I; false if that is not positive definite.
+  bool factorise(double shift) {
+    double* values = m_matrix.valuePtr();
+    std::copy(m_base.begin(), m_base.end(), values);
+    const double alpha = shift * m_scale;
+    for (int j = 0; j < m_n; ++j) values[m_matrix.outerIndexPtr()[j]] += alpha;
+    if (!same_pattern()) {
+      m_solver.analyzePattern(m_matrix);
+      m_outer.assign(m_matrix.outerIndexPtr(), m_matrix.outerIndexPtr() + m_n + 1);
+      m_inner.assign(m_matrix.innerIndexPtr(), m_matrix.innerIndexPtr() + m_matrix.nonZeros());
+      ++m_analyses;
+    }
+    m_solver.factorize(m_matrix);
+    if (m_solver.info() != Eigen::Success) return false;
+    // A positive D makes LDLᵀ positive definite, so the solve gives a descent direction.
+    return m_n == 0 || m_solver.vectorD().minCoeff() > 0.0;
+  }
+
+  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return m_solver.solve(rhs); }
+  [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const { return m_solver.solve(rhs); }
+  [[nodiscard]] int analyses() const { return m_analyses; }
+
+ private:
+  [[nodiscard]] bool same_pattern() const {
+    return !m_outer.empty() && m_outer.size() == static_cast<std::size_t>(m_n + 1) &&
+           m_inner.size() == static_cast<std::size_t>(m_matrix.nonZeros()) &&
+           std::equal(m_outer.begin(), m_outer.end(), m_matrix.outerIndexPtr()) &&
+           std::equal(m_inner.begin(), m_inner.end(), m_matrix.innerIndexPtr());
+  }
+
+  int m_n = 0;
+  SparseMatrix m_matrix;
+  std::vector<double> m_base;  // unshifted values
+  double m_scale = 1.0;
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> m_solver;
+  std::vector<int> m_outer, m_inner;  // the analysed pattern
+  int m_analyses = 0;
+};
+
+double infinity_norm(const Eigen::VectorXd& v) { return v.size() > 0 ? v.lpNorm<Eigen::Infinity>() : 0.0; }
+
+}  // namespace
+
+std::vector<std::string> NewtonOptions::problems() const {
+  std::vector<std::string> out;
+  const auto bad = [&](const std::string& m) { out.push_back("NewtonOptions." + m); };
+  const auto finite_at_least = [](double v, double lo) { return std::isfinite(v) && v >= lo; };
+  if (max_iterations < 0) bad("max_iterations must be ≥ 0");
+  if (!finite_at_least(tolerance, 0.0)) bad("tolerance must be finite and ≥ 0");
+  if (!finite_at_least(time_limit_s, 0.0)) bad("time_limit_s must be finite and ≥ 0 (0: none)");
+  if (!finite_at_least(loose_tolerance, 0.0)) bad("loose_tolerance must be finite and ≥ 0 (0: off)");
+  if (loose_after < 0) bad("loose_after must be ≥ 0");
+  if (max_line_search_steps < 1) bad("max_line_search_steps must be ≥ 1");
+  if (!(armijo > 0.0 && armijo < 0.5)) bad("armijo must be in (0, 0.5)");
+  if (!finite_at_least(shift_initial, 0.0)) bad("shift_initial must be finite and ≥ 0");
+  if (!(shift_start > 0.0) || !std::isfinite(shift_start)) bad("shift_start must be positive and finite");
+  if (!(shift_growth > 1.0) || !std::isfinite(shift_growth)) bad("shift_growth must be > 1 and finite");
+  if (!(shift_shrink > 0.0 && shift_shrink < 1.0)) bad("shift_shrink must be in (0, 1)");
+  if (!(shift_max >= shift_start) || !std::isfinite(shift_max)) bad("shift_max must be finite and ≥ shift_start");
+  if (!finite_at_least(shift_floor, 0.0) || shift_floor > shift_max) bad("shift_floor must be in [0, shift_max]");
+  if (max_failed_attempts < 0) bad("max_failed_attempts must be ≥ 0 (0: no limit)");
+  if (!finite_at_least(exact_shift_limit, 0.0)) bad("exact_shift_limit must be finite and ≥ 0 (0: project at once)");
+  if (!(exact_shift_growth > 1.0) || !std::isfinite(exact_shift_growth)) bad("exact_shift_growth must be > 1 and finite");
+  if (!finite_at_least(exact_shift_floor, 0.0)) bad("exact_shift_floor must be finite and ≥ 0");
+  if (!finite_at_least(limited_step_growth, 1.0)) bad("limited_step_growth must be finite and ≥ 1");
+  if (!(floor_residual_factor > 0.0 && floor_residual_factor <= 1.0)) bad("floor_residual_factor must be in (0, 1]");
+  if (!finite_at_least(roundoff_converged_factor, 0.0)) bad("roundoff_converged_factor must be finite and ≥ 0");
+  return out;
+}
+
+bool NewtonOptions::is_valid(std::string* why) const {
+  const auto found = problems();
+  if (found.empty()) return true;
+  if (why != nullptr) {
+    *why = found.front();
+    for (std::size_t i = 1; i < found.size(); ++i) *why += "; " + found[i];
+  }
+  return false;
+}
+
+const char* to_string(NewtonStatus status) {
+  switch (status) {
+    case NewtonStatus::converged: return "converged";
+    case NewtonStatus::converged_loosely: return "converged_loosely";
+    case NewtonStatus::max_iterations: return "max_iterations";
+    case NewtonStatus::line_search_failed: return "line_search_failed";
+    case NewtonStatus::invalid_start: return "invalid_start";
+    case NewtonStatus::linear_solver_failed: return "linear_solver_failed";
+    case NewtonStatus::non_finite: return "non_finite";
+    case NewtonStatus::time_limit: return "time_limit";
+  }
+  return "unknown";
+}
+
+std::string NewtonSummary::brief() const {
+  std::ostringstream out;
+  out << "Newton " << to_string(status) << ": " << iterations << " iterations, residual "
+      << format_number(residual) << ", E " << format_number(energy) << ", " << format_number(seconds * 1e3) << " ms";
+  if (projected_steps > 0) out << ", " << projected_steps << " projected";
+  if (regularised_steps > 0) out << ", " << regularised_steps << " regularised";
+  if (continuation_steps > 0 || cut_backs > 0) {
+    out << ", " << continuation_steps << " load steps, " << cut_backs << " cut-backs, lambda "
+        << format_number(lambda);
+  }
+  if (!converged() && !message.empty()) out << " (" << message << ")";
+  return out.str();
+}
+
+Eigen::VectorXd projected_gradient(const Eigen::MatrixXd* c, const Eigen::VectorXd& gradient) {
+  if (c == nullptr || c->rows() == 0) return gradient;
+  const Eigen::MatrixXd cct = *c * c->transpose();
+  const Eigen::VectorXd lambda = cct.ldlt().solve(*c * gradient);
+  return gradient - c->transpose() * lambda;
+}
+
+NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const NewtonOptions& options) {
+  const auto start = Clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  std::string why;
+  if (!options.is_valid(&why)) throw std::invalid_argument("solve_newton: " + why);
+
+  NewtonSummary summary;
+  summary.tolerance = options.tolerance;
+  const int n = problem.size();
+  if (x.size() != n) x = Eigen::VectorXd::Zero(n);
+  const Eigen::MatrixXd* c = problem.constraints();
+  if (c != nullptr && c->rows() == 0) c = nullptr;
+  Eigen::LDLT<Eigen::MatrixXd> cct_ldlt;
+  if (c != nullptr) {
+    // Project the start onto C x = 0 (a warm start from another state may drift).
+    cct_ldlt.compute(*c * c->transpose());
+    x -= c->transpose() * cct_ldlt.solve(*c * x);
+  }
+  // The residual the stopping test measures; with C the projected gradient of A.2.3.
+  const auto residual_of = [&](const Eigen::VectorXd& gradient) {
+    if (c == nullptr) return infinity_norm(gradient);
+    return infinity_norm(gradient - c->transpose() * cct_ldlt.solve(*c * gradient));
+  };
+  const auto finish = [&](NewtonStatus status, std::string message) {
+    summary.status = status;
+    summary.message = std::move(message);
+    summary.seconds = elapsed();
+    return summary;
+  };
+
+  problem.prepare(x);
+  Eigen::VectorXd gradient;
+  double energy = problem.energy_gradient(x, gradient);
+  summary.energy = energy;
+  if (!std::isfinite(energy)) {
+    summary.residual = summary.initial_residual = std::numeric_limits<double>::quiet_NaN();
+    const std::string what = problem.describe_invalid_energy(x);
+    return finish(NewtonStatus::invalid_start, "the start state's energy is not finite" + (what.empty() ? "" : ": " + what));
+  }
+  double residual = gradient.allFinite() ? residual_of(gradient) : std::numeric_limits<double>::quiet_NaN();
+  summary.initial_residual = residual;
+
+  ShiftedFactorisation factor;
+  Triplets triplets;
+  Eigen::VectorXd trial(n), trial_gradient;
+  double shift = options.shift_initial;  // relative shift μ
+  bool exact_failed_last = false;        // remember_projection: the exact Hessian failed last iteration
+  int nan_trials = 0;                    // trial energies that were NaN (a term breaking its contract)
+  const bool predicted_floor = options.precision_floor == PrecisionFloor::predicted_decrease;
+
+  while (true) {
+    if (!gradient.allFinite()) {
+      const std::string what = problem.describe_invalid_gradient(x);
+      return finish(NewtonStatus::non_finite,
+                    "the gradient is not finite at a state of finite energy" + (what.empty() ? "" : " (from " + what + ")"));
+    }
+    summary.residual = residual;
+    summary.energy = energy;
+    if (residual <= options.tolerance) return finish(NewtonStatus::converged, "");
+    if (summary.iterations >= options.max_iterations)
+      return finish(NewtonStatus::max_iterations, "stopped after " + std::to_string(summary.iterations) +
+                                                      " iterations: residual " + format_number(residual) +
+                                                      " > tolerance " + format_number(options.tolerance));
+    if (summary.iterations >= options.loose_after && residual <= options.loose_tolerance)
+      return finish(NewtonStatus::converged_loosely,
+                    "stopped after " + std::to_string(summary.iterations) +
+                        " iterations within the loose tolerance (residual " + format_number(residual) +
+                        ", loose tolerance " + format_number(options.loose_tolerance) + ")");
+    if (options.time_limit_s > 0.0 && elapsed() > options.time_limit_s)
+      return finish(NewtonStatus::time_limit, "time limit reached before convergence");
+
+    // The exact Hessian first (the true Newton step, and no per-element eigen-decompositions)
+    // unless the options or the last iteration say otherwise; the projection when it fails.
+    const bool skip_exact = options.project_psd && options.exact_hessian_first && options.remember_projection &&
+                            exact_failed_last;
+    bool exact = !options.project_psd || (options.exact_hessian_first && !skip_exact);
+    const auto assemble = [&]() {
+      triplets.clear();
+      if (!problem.hessian(x, !exact, triplets, &why)) return false;
+      factor.assemble(n, triplets);
+      if (options.shift_past_nonpositive_diagonal) {
+        const double lowest = factor.relative_min_diagonal();
+        if (lowest <= 0.0) shift = std::max(shift, options.shift_start - lowest);
+      }
+      return true;
+    };
+    if (!assemble()) return finish(NewtonStatus::non_finite, why);
+
+    bool accepted = false;
+    bool floor_step = false;  // accepted at the precision floor without a line search
+    bool limited = false;
+    bool factorised_once = false;
+    int failed_attempts = 0;
+    std::string last_failure;
+    // After a failure: the projection replaces the exact Hessian (true), or the shift grows;
+    // false when the solve must stop (the summary is then final).
+    std::optional<NewtonSummary> stopped;
+    const auto switch_to_projection = [&]() {
+      exact = false;
+      exact_failed_last = true;
+      if (!assemble()) {
+        stopped = finish(NewtonStatus::non_finite, why);
+        return false;
+      }
+      return true;
+    };
+    const auto grow_shift = [&]() {
+      ++failed_attempts;
+      shift = shift == 0.0 ? options.shift_start : shift * options.shift_growth;
+      if (shift <= options.shift_max) return true;
+      if (!options.fail_beyond_shift_max) {
+        shift = options.shift_max;
+        return true;
+      }
+      std::string message = last_failure + " at every shift up to " + format_number(options.shift_max) +
+                            " x mean |diag H|; residual " + format_number(residual);
+      if (nan_trials > 0)
+        message += "; " + std::to_string(nan_trials) + " trial energies were NaN (a term breaks its contract)";
+      stopped = finish(factorised_once ? NewtonStatus::line_search_failed : NewtonStatus::linear_solver_failed, message);
+      return false;
+    };
+
+    while (!accepted) {
+      if (options.max_failed_attempts > 0 && failed_attempts >= options.max_failed_attempts) break;
+      if (!factor.factorise(shift)) {
+        last_failure = "the shifted Hessian was not positive definite";
+        if (exact && shift < options.exact_shift_limit) {
+          shift = std::max(shift * options.exact_shift_growth, options.exact_shift_floor);
+          continue;
+        }
+        if (exact && options.project_psd) {
+          if (!switch_to_projection()) return *stopped;
+          continue;
+        }
+        if (!grow_shift()) return *stopped;
+        continue;
+      }
+      factorised_once = true;
+      const Eigen::VectorXd d0 = factor.solve(Eigen::VectorXd(-gradient));
+      Eigen::VectorXd step = d0;
+      if (c != nullptr) {
+        // The KKT step of (3.32) by the Schur complement on the constraint rows.
+        const Eigen::MatrixXd y = factor.solve(Eigen::MatrixXd(c->transpose()));
+        const Eigen::MatrixXd s = *c * y;
+        const Eigen::VectorXd lambda = s.ldlt().solve(*c * d0);
+        step = d0 - y * lambda;
+        // x is kept exactly feasible, so the step must be too: remove the round-off part of
+        // C δ, which would otherwise dominate the slope once the residual is tiny.
+        step -= c->transpose() * cct_ldlt.solve(*c * step);
+      }
+      const auto after_failed_step = [&]() {
+        if (exact && options.project_psd && options.project_after_failed_line_search) return switch_to_projection();
+        return grow_shift();
+      };
+      if (!step.allFinite()) {
+        last_failure = "the Newton step was not finite";
+        if (!after_failed_step()) return *stopped;
+        continue;
+      }
+      const NewtonProblem::StepBound bound = problem.max_step(x, step);
+      double t = bound.fraction;
+      limited = bound.limited;
+      const double slope = gradient.dot(step);
+      // E sums thousands of terms, each exact to ~1e-16 of its size: below this predicted
+      // decrease it cannot tell better from worse.
+      const double noise = 1e-12 * (std::abs(energy) + 1e-300);
+      if (predicted_floor && !(slope < -noise) && std::isfinite(slope) && std::abs(slope) < noise) {
+        // At the precision floor: take the step if it lowers the residual.
+        trial = x + t * step;
+        const double e = problem.energy_gradient(trial, trial_gradient);
+        if (std::isfinite(e) && residual_of(trial_gradient) < options.floor_residual_factor * residual) {
+          x.swap(trial);
+          accepted = floor_step = true;
+        }
+        break;
+      }
+      if (!(slope < 0.0)) {
+        last_failure = "the Newton step was not a descent direction";
+        if (exact && options.project_psd) {
+          if (!switch_to_projection()) return *stopped;
+          continue;
+        }
+        if (!grow_shift()) return *stopped;
+        continue;
+      }
+      int infinite_trials = 0;
+      for (int k = 0; k < options.max_line_search_steps; ++k) {
+        trial = x + t * step;
+        const double e = problem.energy(trial);
+        if (std::isnan(e)) ++nan_trials;
+        if (std::isfinite(e) && e <= energy + options.armijo * t * slope) {
+          accepted = true;
+          break;
+        }
+        if (!std::isfinite(e)) {
+          ++infinite_trials;
+        } else if (predicted_floor && -t * slope < noise) {
+          // The decrease drowns in round-off: accept a step that lowers the residual (the
+          // quantity the stopping test measures) instead.
+          problem.energy_gradient(trial, trial_gradient);
+          accepted = residual_of(trial_gradient) < options.floor_residual_factor * residual;
+          break;
+        } else if (!predicted_floor && k == 0 && std::abs(e - energy) <= 1e-12 * std::abs(energy)) {
+          // The full step changes E by less than its rounding: take it if it cuts the residual.
+          problem.energy_gradient(trial, trial_gradient);
+          if (trial_gradient.allFinite() && residual_of(trial_gradient) <= options.floor_residual_factor * residual) {
+            accepted = true;
+            break;
+          }
+        }
+        t *= 0.5;
+        limited = true;
+      }
+      if (accepted) {
+        x.swap(trial);
+        break;
+      }
+      last_failure = "no Armijo step in " + std::to_string(options.max_line_search_steps) + " halvings (" +
+                     std::to_string(infinite_trials) + " trial points had non-finite energy)";
+      if (exact && options.project_psd && options.project_after_failed_line_search) {
+        if (!switch_to_projection()) return *stopped;
+        continue;
+      }
+      if (!predicted_floor && -slope <= 1e-12 * std::abs(energy))
+        return finish(NewtonStatus::line_search_failed,
+                      "the energy cannot decrease further within rounding (residual " + format_number(residual) +
+                          " > tolerance " + format_number(options.tolerance) +
+                          "): the tolerance is below what this problem can resolve");
+      if (!grow_shift()) return *stopped;
+    }
+    if (!accepted) {
+      // At the precision limit the residual may sit just above the tolerance.
+      if (residual <= options.roundoff_converged_factor * options.tolerance)
+        return finish(NewtonStatus::converged, "stopped at the round-off floor of the energy");
+      return finish(NewtonStatus::line_search_failed, "no step decreased the energy (residual " +
+                                                          format_number(residual) + ", tolerance " +
+                                                          format_number(options.tolerance) + ")");
+    }
+
+    ++summary.iterations;
+    if (shift > 0.0) ++summary.regularised_steps;
+    if (!exact) ++summary.projected_steps;
+    if (exact || skip_exact) exact_failed_last = false;
+    if (!floor_step) {
+      if (limited && options.limited_step_growth > 1.0) {
+        shift = std::min(shift * options.limited_step_growth, options.shift_max);
+      } else {
+        shift = std::max(shift * options.shift_shrink, options.shift_floor);
+        if (options.shift_floor == 0.0 && shift < options.shift_start) shift = 0.0;
+      }
+    }
+    problem.prepare(x);
+    energy = problem.energy_gradient(x, gradient);
+    summary.analyses = factor.analyses();
+    if (!std::isfinite(energy))
+      return finish(NewtonStatus::non_finite, "the energy became non-finite after the problem was prepared for the new state");
+    residual = gradient.allFinite() ? residual_of(gradient) : std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+}  // namespace yarnfit::numerics

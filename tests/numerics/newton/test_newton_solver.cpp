@@ -1,0 +1,282 @@
+// The one Newton solver (numerics/newton/newton_solver.hpp), on small terms with known
+// minimisers (tests/support/test_energy_terms.hpp), with the shell's settings (the defaults)
+// and with the yarn's (yarn_fit/solver/equilibrium.cpp): convergence, the shift on indefinite
+// Hessians, a line search that never leaves the domain, constrained steps, the step-bound
+// hook, and every failure reported in the summary.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "numerics/newton/newton_solver.hpp"
+#include "numerics/terms/scene.hpp"
+#include "tests/support/test_energy_terms.hpp"
+
+namespace yarnfit::numerics {
+namespace {
+
+using testing::DoubleWellTerm;
+using testing::NanGradientTerm;
+using testing::QuadraticTerm;
+using testing::RosenbrockTerm;
+using testing::terms_of;
+using testing::WallTerm;
+
+// A list of terms as a Newton problem over all of x, with optional constraints and an
+// optional cap on the step length (to exercise the step-bound hook).
+class TermsProblem final : public NewtonProblem {
+ public:
+  explicit TermsProblem(TermList terms, int n) : m_terms(std::move(terms)), m_n(n) {}
+  [[nodiscard]] int size() const override { return m_n; }
+  [[nodiscard]] double energy(const Eigen::VectorXd& x) const override { return total_energy(m_terms, x); }
+  double energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override {
+    g = total_gradient(m_terms, x);
+    return total_energy(m_terms, x);
+  }
+  bool hessian(const Eigen::VectorXd& x, bool project_psd, Triplets& lower, std::string*) const override {
+    Triplets all;
+    for (const EnergyTerm* t : m_terms) t->add_hessian(x, all, {project_psd, true});
+    for (const auto& t : all)
+      if (t.row() >= t.col()) lower.push_back(t);
+    return true;
+  }
+  [[nodiscard]] const Eigen::MatrixXd* constraints() const override { return m_c.rows() > 0 ? &m_c : nullptr; }
+  [[nodiscard]] StepBound max_step(const Eigen::VectorXd&, const Eigen::VectorXd& dx) const override {
+    const double length = dx.lpNorm<Eigen::Infinity>();
+    if (m_cap > 0.0 && length > m_cap) return {m_cap / length, true};
+    return {};
+  }
+  void prepare(const Eigen::VectorXd&) override { ++prepared; }
+  [[nodiscard]] std::string describe_invalid_energy(const Eigen::VectorXd& x) const override {
+    return describe_non_finite_values(m_terms, x);
+  }
+  [[nodiscard]] std::string describe_invalid_gradient(const Eigen::VectorXd& x) const override {
+    return describe_non_finite_gradients(m_terms, x);
+  }
+
+  Eigen::MatrixXd m_c;
+  double m_cap = 0.0;
+  int prepared = 0;
+
+ private:
+  TermList m_terms;
+  int m_n;
+};
+
+// The yarn's settings of the same solver, as yarn_fit/solver/equilibrium.cpp sets them.
+NewtonOptions yarn_like_options() {
+  NewtonOptions o;
+  o.remember_projection = false;
+  o.project_after_failed_line_search = false;
+  o.shift_initial = 1e-8;
+  o.exact_shift_limit = 1e-3;
+  o.shift_growth = 100.0;
+  o.shift_max = 1e2;
+  o.fail_beyond_shift_max = false;
+  o.max_failed_attempts = 8;
+  o.shift_floor = 1e-10;
+  o.limited_step_growth = 4.0;
+  o.shift_past_nonpositive_diagonal = false;
+  o.precision_floor = PrecisionFloor::predicted_decrease;
+  o.floor_residual_factor = 1.0;
+  o.roundoff_converged_factor = 1e3;
+  return o;
+}
+
+TEST(NewtonSolver, QuadraticConvergesInOneStep) {
+  const int n = 6;
+  Eigen::MatrixXd m = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd a = m * m.transpose() + n * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::VectorXd c = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  const QuadraticTerm term(a, c);
+  TermsProblem problem(terms_of({&term}), n);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  ASSERT_TRUE(s.converged()) << s.brief();
+  EXPECT_EQ(s.iterations, 1) << s.brief();
+  EXPECT_EQ(s.regularised_steps, 0);
+  EXPECT_LT((x - c).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_LE(s.residual, 1e-8);
+  EXPECT_GT(s.initial_residual, 1.0);
+  EXPECT_NEAR(s.energy, 0.0, 1e-20);
+  EXPECT_EQ(problem.prepared, 2) << "prepared before the first iteration and after the step";
+  EXPECT_NE(s.brief().find("converged"), std::string::npos) << s.brief();
+}
+
+TEST(NewtonSolver, IndefiniteDoubleWellIsSafeguardedByTheShift) {
+  // Starting near the maximum at 0, plain Newton would climb to it; the shift must turn the
+  // step downhill, and the solver must still end at a true minimum, with either settings.
+  const DoubleWellTerm term(0.3);
+  for (const bool yarn_like : {false, true}) {
+    Eigen::VectorXd x(6);
+    x << 0.05, -0.02, 0.01, 0.08, -0.04, 0.0;
+    TermsProblem problem(terms_of({&term}), 6);
+    NewtonOptions options = yarn_like ? yarn_like_options() : NewtonOptions{};
+    options.tolerance = 1e-12;
+    options.project_psd = false;
+    const NewtonSummary s = solve_newton(problem, x, options);
+    ASSERT_TRUE(s.converged()) << s.brief();
+    std::cout << "[ double well" << (yarn_like ? ", yarn settings" : "") << " ] " << s.brief() << "\n";
+    EXPECT_GT(s.regularised_steps, 0) << "the start is indefinite: a shift was needed";
+    const Eigen::MatrixXd h = Eigen::MatrixXd(total_hessian(terms_of({&term}), x, false));
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h).eigenvalues().minCoeff(), 0.0)
+        << "a minimum, not a saddle: x = " << x.transpose();
+    EXPECT_LT(s.energy, term.value(Eigen::VectorXd::Zero(6)));
+  }
+}
+
+TEST(NewtonSolver, LineSearchNeverStepsIntoTheInfiniteRegion) {
+  // The full Newton step from 0 overshoots the wall at 1; only backtracking keeps it valid.
+  for (const bool yarn_like : {false, true}) {
+    const WallTerm term(1.0, 1e-3, 3.0);
+    TermsProblem problem(terms_of({&term}), 3);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(3);
+    x(1) = -2.0;
+    NewtonOptions options = yarn_like ? yarn_like_options() : NewtonOptions{};
+    options.tolerance = 1e-10;
+    const NewtonSummary s = solve_newton(problem, x, options);
+    ASSERT_TRUE(s.converged()) << s.brief();
+    EXPECT_EQ(term.invalid_derivative_calls(), 0);
+    for (Eigen::Index k = 0; k < 3; ++k) EXPECT_NEAR(x(k), term.minimiser(), 1e-10);
+  }
+}
+
+TEST(NewtonSolver, InvalidStartIsReportedAndLeavesXUnchanged) {
+  const WallTerm term(1.0, 1e-3, 3.0);
+  TermsProblem problem(terms_of({&term}), 2);
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(2, 0.5);
+  x(1) = 1.5;
+  const Eigen::VectorXd start = x;
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  EXPECT_EQ(s.status, NewtonStatus::invalid_start);
+  EXPECT_FALSE(s.converged());
+  EXPECT_EQ(s.iterations, 0);
+  EXPECT_EQ(x, start);
+  EXPECT_NE(s.message.find("wall"), std::string::npos) << s.message;
+  EXPECT_TRUE(std::isnan(s.residual));
+}
+
+TEST(NewtonSolver, MaxIterationsKeepsTheLastValidIterateAndRosenbrockConvergesEitherWay) {
+  const RosenbrockTerm term;
+  TermsProblem problem(terms_of({&term}), 2);
+  Eigen::VectorXd x(2);
+  x << -1.2, 1.0;
+  NewtonOptions options;
+  options.max_iterations = 3;
+  const NewtonSummary s = solve_newton(problem, x, options);
+  EXPECT_EQ(s.status, NewtonStatus::max_iterations);
+  EXPECT_EQ(s.iterations, 3);
+  EXPECT_DOUBLE_EQ(s.energy, term.value(x));
+  EXPECT_LT(s.energy, 24.2) << "every accepted step decreased the energy";
+  EXPECT_FALSE(s.message.empty());
+  for (const bool yarn_like : {false, true}) {
+    for (const bool project : {true, false}) {
+      x << -1.2, 1.0;
+      options = yarn_like ? yarn_like_options() : NewtonOptions{};
+      options.tolerance = 1e-10;
+      options.project_psd = project;
+      const NewtonSummary full = solve_newton(problem, x, options);
+      ASSERT_TRUE(full.converged()) << full.brief();
+      std::cout << "[ rosenbrock, " << (yarn_like ? "yarn" : "shell") << " settings, project_psd " << project
+                << " ] " << full.brief() << "\n";
+      EXPECT_NEAR(x(0), 1.0, 1e-8);
+      EXPECT_NEAR(x(1), 1.0, 1e-8);
+    }
+  }
+}
+
+TEST(NewtonSolver, NonFiniteGradientIsReportedNotPassedOn) {
+  const NanGradientTerm term;
+  TermsProblem problem(terms_of({&term}), 2);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(2);
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  EXPECT_EQ(s.status, NewtonStatus::non_finite) << s.brief();
+  EXPECT_TRUE(x.allFinite());
+  EXPECT_TRUE(std::isfinite(s.energy));
+  EXPECT_NE(s.message.find("nan_gradient"), std::string::npos) << s.message;
+}
+
+TEST(NewtonSolver, ConstrainedQuadraticReachesTheKktSolutionAndStaysFeasible) {
+  // min ½|x − c|² subject to Σx = 0 and x0 − x1 = 0: x = P c with P the projector on the
+  // constraints' null space.
+  const int n = 5;
+  const Eigen::VectorXd c = Eigen::VectorXd::LinSpaced(n, 1.0, 3.0);
+  const QuadraticTerm term(Eigen::MatrixXd::Identity(n, n), c);
+  TermsProblem problem(terms_of({&term}), n);
+  problem.m_c = Eigen::MatrixXd::Zero(2, n);
+  problem.m_c.row(0).setOnes();
+  problem.m_c(1, 0) = 1.0;
+  problem.m_c(1, 1) = -1.0;
+  const Eigen::MatrixXd& C = problem.m_c;
+  const Eigen::MatrixXd projector =
+      Eigen::MatrixXd::Identity(n, n) - C.transpose() * (C * C.transpose()).inverse() * C;
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 0.7);  // infeasible start: projected first
+  NewtonOptions options = yarn_like_options();  // never below a shift of 1e-10: a few steps
+  options.tolerance = 1e-13;
+  const NewtonSummary s = solve_newton(problem, x, options);
+  ASSERT_TRUE(s.converged()) << s.brief();
+  EXPECT_LT((x - projector * c).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_LT((C * x).lpNorm<Eigen::Infinity>(), 1e-14);
+  // The residual is the projected gradient: zero at the solution although ∇E = x − c is not.
+  EXPECT_LE(s.residual, 1e-8);
+  EXPECT_GT((x - c).lpNorm<Eigen::Infinity>(), 0.1);
+  EXPECT_LT((projected_gradient(&C, x - c)).lpNorm<Eigen::Infinity>(), 1e-12);
+}
+
+TEST(NewtonSolver, StepBoundLimitsEveryStepAndStillConverges) {
+  // A cap of 0.1 on every step: from 0 to c (|c|∞ = 2) takes at least 20 steps, each one cut.
+  const int n = 3;
+  const Eigen::VectorXd c = Eigen::Vector3d(2.0, -1.0, 0.5);
+  const QuadraticTerm term(Eigen::MatrixXd::Identity(n, n), c);
+  TermsProblem problem(terms_of({&term}), n);
+  problem.m_cap = 0.1;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  ASSERT_TRUE(s.converged()) << s.brief();
+  EXPECT_GE(s.iterations, 20);
+  EXPECT_LE(s.iterations, 22);
+  EXPECT_LT((x - c).lpNorm<Eigen::Infinity>(), 1e-9);
+}
+
+TEST(NewtonSolver, LooseToleranceEndsASlowSolveVisibly) {
+  const RosenbrockTerm term;
+  TermsProblem problem(terms_of({&term}), 2);
+  problem.m_cap = 1e-3;  // creeping steps
+  Eigen::VectorXd x(2);
+  x << -1.2, 1.0;
+  NewtonOptions options = yarn_like_options();
+  options.loose_after = 5;
+  options.loose_tolerance = 1e3;
+  const NewtonSummary s = solve_newton(problem, x, options);
+  EXPECT_EQ(s.status, NewtonStatus::converged_loosely) << s.brief();
+  EXPECT_TRUE(s.converged());
+  EXPECT_EQ(s.iterations, 5);
+  EXPECT_NE(s.message.find("loose"), std::string::npos) << s.message;
+}
+
+TEST(NewtonSolver, OptionsListEveryProblem) {
+  NewtonOptions options;
+  EXPECT_TRUE(options.problems().empty());
+  options.shift_growth = 1.0;
+  options.armijo = 0.7;
+  options.max_line_search_steps = 0;
+  const auto found = options.problems();
+  ASSERT_EQ(found.size(), 3u);
+  std::string why;
+  EXPECT_FALSE(options.is_valid(&why));
+  for (const char* field : {"shift_growth", "armijo", "max_line_search_steps"})
+    EXPECT_NE(why.find(field), std::string::npos) << why;
+  const QuadraticTerm term(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2));
+  TermsProblem problem(terms_of({&term}), 2);
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(2);
+  EXPECT_THROW((void)solve_newton(problem, x, options), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace yarnfit::numerics

@@ -1,0 +1,37 @@
+#pragma once
+// Biphasic yarn stretch (6.5) over the tile's edges: W = L̄ · w(ε) per edge, the element of
+// yarn_elements.hpp (stretch_element), each periodic edge once (yarn_tile.hpp).
+
+#include <string>
+
+#include "yarn_fit/energies/yarn_term.hpp"
+
+namespace yarnfit::yarn {
+
+class YarnStretchTerm final : public PeriodicTerm<YarnStretchTerm, 2> {
+ public:
+  static constexpr bool zero_energy_is_inactive = false;
+
+  YarnStretchTerm(const YarnTile& tile, const TilePlacement& placement, const YarnParams& params)
+      : PeriodicTerm(tile, placement) {
+    set_params(params);
+  }
+  [[nodiscard]] std::string name() const override { return "stretch"; }
+  void set_params(const YarnParams& p) override { m_model = {p.ks1, p.ks2, p.eps_s}; }
+
+  [[nodiscard]] int element_count() const { return tile().edge_count(); }
+  [[nodiscard]] ElementVertices<2> element_vertices(int e) const {
+    const TileEdgeElement& edge = tile().edges[static_cast<std::size_t>(e)];
+    return {{edge.v0, edge.v1}, {Cell{0, 0}, edge.cell1}};
+  }
+  double element_in_space(int e, const std::array<Eigen::Vector3d, 2>& x, Vec<6>* gradient, Mat<6>* hessian,
+                          bool project_psd) const {
+    return stretch_element(x[0], x[1], tile().edges[static_cast<std::size_t>(e)].rest_length, m_model, gradient,
+                           hessian, project_psd);
+  }
+
+ private:
+  BiphasicStretch m_model;
+};
+
+}  // namespace yarnfit::yarn

@@ -1,0 +1,31 @@
+#include "yarn_fit/periodic/tile_placement.hpp"
+
+#include <cstdlib>
+#include <stdexcept>
+
+namespace yarnfit::yarn {
+
+void TilePlacement::update(const YarnTile& tile, const CoarseMap& map) {
+  const int side = 2 * kCells + 1;
+  m_vertex_count = tile.vertex_count();
+  m_curved = map.deformation().curved();
+  m_placements.resize(static_cast<std::size_t>(side * side * m_vertex_count));
+  for (int ci = -kCells; ci <= kCells; ++ci) {
+    for (int cj = -kCells; cj <= kCells; ++cj) {
+      const std::size_t offset = static_cast<std::size_t>(((ci + kCells) * side + (cj + kCells)) * m_vertex_count);
+      for (int v = 0; v < m_vertex_count; ++v) {
+        Placement& p = m_placements[offset + static_cast<std::size_t>(v)];
+        map.place(tile.reference_at(v, {ci, cj}), p.base, p.rotation);
+      }
+    }
+  }
+}
+
+const TilePlacement::Placement& TilePlacement::at(int v, const Cell& cell) const {
+  if (std::abs(cell.i) > kCells || std::abs(cell.j) > kCells)
+    throw std::logic_error("yarn system: placement outside the cached cells");
+  const int side = 2 * kCells + 1;
+  return m_placements[static_cast<std::size_t>(((cell.i + kCells) * side + (cell.j + kCells)) * m_vertex_count + v)];
+}
+
+}  // namespace yarnfit::yarn
