@@ -35,7 +35,7 @@ struct Problem {
   db::PeriodicTile tile;
   yarn::ParameterScales scales;
   yarn::YarnParams truth;
-  std::vector<calibration::DirectionTargets> targets;
+  std::vector<db::DirectionTargets> targets;
 };
 
 // Known parameters inside the bounds, away from the defaults the swarm is centred on, in one
