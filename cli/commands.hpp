@@ -23,9 +23,5 @@ void add_synth_yarn_command(CLI::App& synth, int& exit_code);
 void add_yarn_commands(CLI::App& app, int& exit_code);
 // `yarn fit` (registered on `yarn`) and the whole pipeline `fit` (cli/commands_fit.cpp).
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code);
-// `shell fit FABRIC --out DIR` with these settings and the others at their defaults: the
-// stage `fit` runs first (cli/commands_shell.cpp). Returns the command's exit code.
-int run_shell_fit_command(const std::string& fabric, const std::string& out, double mesh_mm, int threads,
-                          bool quiet);
 
 }  // namespace yarnfit::cli

@@ -1,6 +1,7 @@
 #include "shell_fit/fit/shell_fit.hpp"
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 
@@ -108,6 +109,36 @@ nlohmann::json to_json(const ShellFitResult& r) {
     report["errors_reason"] = inplane.empty() ? bending_reason : inplane + "; " + bending_reason;
   }
   return report;
+}
+
+std::array<std::optional<double>, 9> read_shell_params(const std::filesystem::path& file, db::Problems& problems) {
+  std::array<std::optional<double>, 9> values;
+  const std::string label = file.string();
+  std::ifstream in(file);
+  if (!in) {
+    problems.add(label, 0, "file", "cannot be read");
+    return values;
+  }
+  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) {
+    problems.add(label, 0, "file", "not a JSON object (expected shell_fit.json)");
+    return values;
+  }
+  const nlohmann::json& p = doc.contains("params") ? doc["params"] : doc;
+  if (!p.is_object()) {
+    problems.add(label, 0, "params", "expected an object of parameter values");
+    return values;
+  }
+  bool any = false;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const char* name = k_shell_param_names[i];
+    if (!p.contains(name) || p[name].is_null()) continue;  // null: not fitted
+    any = true;
+    if (!p[name].is_number()) problems.add(label, 0, std::string("params.") + name, "expected a number");
+    else values[i] = p[name].get<double>();
+  }
+  if (!any) problems.add(label, 0, "params", "none of kxx, kxy, kyy, kss, kn1, kn2, ktheta_* found");
+  return values;
 }
 
 }  // namespace yarnfit::shell

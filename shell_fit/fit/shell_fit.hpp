@@ -10,6 +10,8 @@
 //   const shell::ShellFitResult r = shell::fit_shell(fabric, options);
 //   db::write_uniform_targets_csv(r.targets, dir / "uniform_targets.csv");
 
+#include <array>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -74,5 +76,14 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
 // bending_pct} (null where there is no figure, with errors_reason), identified,
 // not_identified, effects, timing_s, the in-plane details (inplane_fit_json) and `bending`.
 nlohmann::json to_json(const ShellFitResult& result);
+
+// The keys of shell_fit.json's params, in this order.
+inline const char* const k_shell_param_names[9] = {"kxx", "kxy", "kyy", "kss", "kn1", "kn2",
+                                                   "ktheta_weft", "ktheta_bias", "ktheta_warp"};
+
+// The parameters of a shell_fit.json (its `params`, or the top level when there is none), in
+// the order of k_shell_param_names; absent and null (not fitted) ones are empty. Problems
+// name the file and the key (unreadable, not JSON, a value that is not a number, none found).
+std::array<std::optional<double>, 9> read_shell_params(const std::filesystem::path& file, db::Problems& problems);
 
 }  // namespace yarnfit::shell
