@@ -29,12 +29,10 @@
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
-#include "reports/summaries/shell_summary.hpp"
 
 namespace yarnfit::cli {
 namespace {
 
-namespace fs = std::filesystem;
 
 struct YarnFitArgs {
   std::string fabric, targets, out, checkpoint, start;
@@ -110,12 +108,8 @@ int run_yarn_fit(const YarnFitArgs& a) {
   }
   progress.finish();
   std::string summary;
-  try {
-    summary = pipeline::write_yarn_outputs(calibration::to_json(*problem, result, settings), a.out);
-  } catch (const std::exception& e) {
-    std::cerr << a.out << ": file: " << e.what() << "\n";
+  if (!write_files(a.out, [&] { summary = pipeline::write_yarn_outputs(calibration::to_json(*problem, result, settings), a.out); }))
     return k_exit_internal;
-  }
   if (!a.quiet) {
     std::cout << "yarn fit of " << problem->fabric_id << "\n" << summary;
     std::cout << "results in " << a.out << ": yarn_fit.json, yarn_curves.csv, yarn_summary.txt\n";
@@ -154,15 +148,8 @@ int run_fit(const YarnFitArgs& a) {
   progress.finish();
   if (result.status == pipeline::PipelineStatus::invalid_input) return refuse(result.problems);
   pipeline::PipelineOutputs written;
-  try {
-    written = pipeline::write_pipeline_outputs(result, a.out);
-  } catch (const std::exception& e) {
-    std::cerr << a.out << ": file: " << e.what() << "\n";
-    return k_exit_internal;
-  }
-  if (!a.quiet)
-    std::cout << reports::shell_fit_report(pipeline::shell_fit_json(result)) << "  wrote "
-              << (fs::path(a.out) / "shell_fit.json").string() << " and uniform_targets.csv\n";
+  if (!write_files(a.out, [&] { written = pipeline::write_pipeline_outputs(result, a.out); })) return k_exit_internal;
+  if (!a.quiet) print_shell_report(pipeline::shell_fit_json(result), a.out);
   if (result.status == pipeline::PipelineStatus::shell_failed) {
     std::cerr << result.message << "\n" << "fit: the shell stage failed; no yarn fit\n";
     return k_exit_internal;

@@ -53,15 +53,8 @@ int run_shell_fit(const ShellArgs& a) {
   const shell::ShellFitResult fit = shell::fit_shell(*load.fabric, options);
   progress.finish();
   nlohmann::json report;
-  try {
-    report = pipeline::write_shell_outputs(fit, a.out);
-  } catch (const std::exception& e) {
-    std::cerr << a.out << ": file: " << e.what() << "\n";
-    return k_exit_internal;
-  }
-  if (!a.quiet)
-    std::cout << reports::shell_fit_report(report) << "  wrote " << (fs::path(a.out) / "shell_fit.json").string()
-              << " and uniform_targets.csv\n";
+  if (!write_files(a.out, [&] { report = pipeline::write_shell_outputs(fit, a.out); })) return k_exit_internal;
+  if (!a.quiet) print_shell_report(report, a.out);
   if (!fit.converged()) {
     std::cerr << fit.failure() << "\n";
     return k_exit_internal;
@@ -150,6 +143,21 @@ void add_synth_commands(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   sh->add_flag("--force", args->force, "Replace an existing record in the folder");
   sh->callback([args, &exit_code] { exit_code = run_synth_shell(*args); });
+}
+
+bool write_files(const std::string& out, const std::function<void()>& write) {
+  try {
+    write();
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << out << ": file: " << e.what() << "\n";
+    return false;
+  }
+}
+
+void print_shell_report(const nlohmann::json& shell_fit, const std::string& out) {
+  std::cout << reports::shell_fit_report(shell_fit) << "  wrote " << (fs::path(out) / "shell_fit.json").string()
+            << " and uniform_targets.csv\n";
 }
 
 void add_shell_commands(CLI::App& app, int& exit_code) {

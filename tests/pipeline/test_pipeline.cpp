@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "fabrics_db/records/fabric_reader.hpp"
+#include "tests/example_fabric.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
 #include "tests/test_support.hpp"
@@ -15,18 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path k_example = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
-
-// The bundled example with its weft stretch test only: a shell stage of about a second.
-db::Fabric weft_only_example() {
-  const auto load = db::load_fabric(k_example);
-  EXPECT_TRUE(load.ok()) << load.problems.to_string();
-  db::Fabric f = *load.fabric;
-  f.stretch_tests.erase(db::Direction::bias);
-  f.stretch_tests.erase(db::Direction::warp);
-  f.bending_tests.clear();
-  return f;
-}
+using yarnfit::testing::weft_only_example;  // a shell stage of about a second
+const fs::path k_example = yarnfit::testing::bundled_example_folder();
 
 // A yarn fit of a few evaluations.
 PipelineOptions tiny() {

@@ -6,22 +6,16 @@
 #include <cmath>
 
 #include "calibration/problem/yarn_fit_problem.hpp"
-#include "fabrics_db/records/fabric_reader.hpp"
+#include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::calibration {
 namespace {
 
-namespace fs = std::filesystem;
-
-db::Fabric example() {
-  const auto load = db::load_fabric(fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo");
-  EXPECT_TRUE(load.ok()) << load.problems.to_string();
-  return *load.fabric;
-}
+using yarnfit::testing::bundled_example;
 
 TEST(YarnFitProblem, ScalesFromTheStiffestYarnAndTheTileFacts) {
-  const db::Fabric f = example();
+  const db::Fabric f = bundled_example();
   db::Problems problems;
   const auto p = make_yarn_fit_problem(f, problems);
   ASSERT_TRUE(p) << problems.to_string();
@@ -36,7 +30,7 @@ TEST(YarnFitProblem, ScalesFromTheStiffestYarnAndTheTileFacts) {
 }
 
 TEST(YarnFitProblem, ATileWhoseWeftRunsAlongYIsTurned) {
-  db::Fabric f = example();
+  db::Fabric f = bundled_example();
   f.pattern->weft_axis = db::Axis::y;
   db::Problems problems;
   const auto turned = make_yarn_fit_problem(f, problems);
@@ -48,7 +42,7 @@ TEST(YarnFitProblem, ATileWhoseWeftRunsAlongYIsTurned) {
 }
 
 TEST(YarnFitProblem, EveryProblemOfTheRecordNamesFabricYaml) {
-  db::Fabric f = example();
+  db::Fabric f = bundled_example();
   f.pattern.reset();
   for (auto& y : f.yarns) y.stiffness.reset();
   db::Problems problems;
@@ -62,7 +56,7 @@ TEST(YarnFitProblem, EveryProblemOfTheRecordNamesFabricYaml) {
 TEST(YarnFitProblem, StartInsideTheBoundsSkipsTheSwarmOutsideIsNamed) {
   yarnfit::testing::ScratchDir dir("yarn_problem");
   db::Problems problems;
-  auto p = make_yarn_fit_problem(example(), problems);
+  auto p = make_yarn_fit_problem(bundled_example(), problems);
   ASSERT_TRUE(p);
   const yarn::YarnParams mid = yarn::default_params(p->scales);
   yarnfit::testing::write_file(dir / "start.json", yarn::to_json(mid).dump());
@@ -88,7 +82,7 @@ TEST(YarnFitProblem, StartInsideTheBoundsSkipsTheSwarmOutsideIsNamed) {
 
 TEST(YarnFitProblem, JsonNamesTheFabricAndTheTargetsSource) {
   db::Problems problems;
-  auto p = make_yarn_fit_problem(example(), problems);
+  auto p = make_yarn_fit_problem(bundled_example(), problems);
   ASSERT_TRUE(p);
   p->targets_source = "somewhere/uniform_targets.csv";
   YarnFitResult r;

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "tests/test_support.hpp"
+
 #include "reports/summaries/fit_summary.hpp"
 
 namespace yarnfit::reports {
@@ -11,7 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using yarnfit::testing::contains;
 
 const json k_yarn = {{"ok", true}, {"settings", {{"swarm", false}}}, {"timing_s", {{"total", 2.0}}}};
 
@@ -20,7 +22,7 @@ TEST(FitSummary, FabricThenShellThenYarnThenTheTimePerStage) {
   const std::string s = fit_summary("demo", "fabrics/demo", shell, k_yarn, {1.0, 2.0, 3.5});
   EXPECT_EQ(s.rfind("fabric demo (fabrics/demo)\n\nshell fit: converged\n", 0), 0u) << s;
   EXPECT_LT(s.find("shell fit:"), s.find("yarn fit: ok"));
-  EXPECT_TRUE(has(s, "\ntime per stage: shell 1 s, yarn 2 s, total 3.5 s\n")) << s;
+  EXPECT_TRUE(contains(s, "\ntime per stage: shell 1 s, yarn 2 s, total 3.5 s\n")) << s;
   EXPECT_EQ(yarn_summary_file("demo", "t.csv", k_yarn).rfind("fabric demo, targets t.csv\nyarn fit: ok\n", 0), 0u);
 }
 

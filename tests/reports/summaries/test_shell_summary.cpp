@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "tests/test_support.hpp"
+
 #include "reports/summaries/shell_summary.hpp"
 
 namespace yarnfit::reports {
@@ -10,7 +12,7 @@ namespace {
 
 using nlohmann::json;
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using yarnfit::testing::contains;
 
 json converged_fit() {
   return json{
@@ -42,11 +44,11 @@ TEST(ShellSummary, ErrorsPerDirectionAndForAllWithTheParameters) {
   const std::string s = shell_summary(converged_fit(), 5.0);
   EXPECT_EQ(s.rfind("shell fit: converged\n", 0), 0u) << s;
   // The per-direction figures are the shell metric of each curve: 0.3 / 3 and 0.
-  EXPECT_TRUE(has(s, "    weft              10 %          0 %\n")) << s;
-  EXPECT_TRUE(has(s, "    all               10 %          0 %   bending (aspect ratio) 2.5 %\n")) << s;
-  EXPECT_TRUE(has(s, "kxx = 60 kyy = 250; not fitted: ktheta_weft\n")) << s;
-  EXPECT_TRUE(has(s, "  time: 5 s (fits 4.75 s,")) << s;
-  EXPECT_FALSE(has(s, "no errors")) << s;
+  EXPECT_TRUE(contains(s, "    weft              10 %          0 %\n")) << s;
+  EXPECT_TRUE(contains(s, "    all               10 %          0 %   bending (aspect ratio) 2.5 %\n")) << s;
+  EXPECT_TRUE(contains(s, "kxx = 60 kyy = 250; not fitted: ktheta_weft\n")) << s;
+  EXPECT_TRUE(contains(s, "  time: 5 s (fits 4.75 s,")) << s;
+  EXPECT_FALSE(contains(s, "no errors")) << s;
 }
 
 TEST(ShellSummary, AFailedFitShowsNoFiguresAndSaysWhy) {
@@ -58,32 +60,32 @@ TEST(ShellSummary, AFailedFitShowsNoFiguresAndSaysWhy) {
   r["directions"][0]["simulated_force_N"] = json::array();
   r["directions"][0]["simulated_compression"] = json::array();
   const std::string s = shell_summary(r, 1.0);
-  EXPECT_TRUE(has(s, "shell fit: NOT converged")) << s;
-  EXPECT_TRUE(has(s, "    weft                 -            -\n")) << s;
-  EXPECT_TRUE(has(s, "bending (aspect ratio) not fitted")) << s;
-  EXPECT_TRUE(has(s, "no errors where the fit failed: final evaluation failed")) << s;
+  EXPECT_TRUE(contains(s, "shell fit: NOT converged")) << s;
+  EXPECT_TRUE(contains(s, "    weft                 -            -\n")) << s;
+  EXPECT_TRUE(contains(s, "bending (aspect ratio) not fitted")) << s;
+  EXPECT_TRUE(contains(s, "no errors where the fit failed: final evaluation failed")) << s;
   const std::string report = shell_fit_report(r);
-  EXPECT_TRUE(has(report, "  force error -, compression error -\n")) << report;
-  EXPECT_TRUE(has(report, "  no errors: final evaluation failed: a scene did not reach equilibrium\n")) << report;
+  EXPECT_TRUE(contains(report, "  force error -, compression error -\n")) << report;
+  EXPECT_TRUE(contains(report, "  no errors: final evaluation failed: a scene did not reach equilibrium\n")) << report;
 }
 
 TEST(ShellSummary, TheShellFitCommandsReport) {
   const std::string s = shell_fit_report(converged_fit());
   EXPECT_EQ(s.rfind("shell fit of demo: converged after 12 iterations, 1.25 s\n", 0), 0u) << s;
-  EXPECT_TRUE(has(s, "  force error 10 %, compression error 0 %\n")) << s;
-  EXPECT_TRUE(has(s, "  best of 2 data-based starts: mostly kxy, 1 restart(s) after stalls\n")) << s;
-  EXPECT_TRUE(has(s, "  weft: fitted up to s = 0.5 of 0.8 measured\n")) << s;
-  EXPECT_TRUE(has(s, "  not identified: kss: no bias test\n")) << s;
-  EXPECT_TRUE(has(s, "  weakly identified: kn2\n")) << s;
-  EXPECT_TRUE(has(s, "  WARNING: kn1 ended on a search bound\n")) << s;
-  EXPECT_TRUE(has(s, "  bending: converged, aspect-ratio error 2.5 %, 3.5 s\n")) << s;
-  EXPECT_TRUE(has(s, "  WARNING: weft test: start search failed\n")) << s;
-  EXPECT_TRUE(has(s, "  WARNING: ktheta_weft ended on a search bound\n")) << s;
+  EXPECT_TRUE(contains(s, "  force error 10 %, compression error 0 %\n")) << s;
+  EXPECT_TRUE(contains(s, "  best of 2 data-based starts: mostly kxy, 1 restart(s) after stalls\n")) << s;
+  EXPECT_TRUE(contains(s, "  weft: fitted up to s = 0.5 of 0.8 measured\n")) << s;
+  EXPECT_TRUE(contains(s, "  not identified: kss: no bias test\n")) << s;
+  EXPECT_TRUE(contains(s, "  weakly identified: kn2\n")) << s;
+  EXPECT_TRUE(contains(s, "  WARNING: kn1 ended on a search bound\n")) << s;
+  EXPECT_TRUE(contains(s, "  bending: converged, aspect-ratio error 2.5 %, 3.5 s\n")) << s;
+  EXPECT_TRUE(contains(s, "  WARNING: weft test: start search failed\n")) << s;
+  EXPECT_TRUE(contains(s, "  WARNING: ktheta_weft ended on a search bound\n")) << s;
   // Without compression data the report says so rather than printing a figure.
   json r = converged_fit();
   r["inplane"]["compression_measured"] = false;
   r["errors"]["compression_pct"] = nullptr;
-  EXPECT_TRUE(has(shell_fit_report(r), "compression error not measured"));
+  EXPECT_TRUE(contains(shell_fit_report(r), "compression error not measured"));
 }
 
 TEST(ShellSummary, CurvesCsvLeavesMissingValuesEmpty) {

@@ -5,6 +5,8 @@
 #include <limits>
 #include <string>
 
+#include "tests/test_support.hpp"
+
 #include "reports/summaries/yarn_summary.hpp"
 
 namespace yarnfit::reports {
@@ -12,7 +14,7 @@ namespace {
 
 using nlohmann::json;
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using yarnfit::testing::contains;
 
 json yarn_fit() {
   json profile_entry = {{"value", 1.0}, {"objective_lower", 2.0}, {"objective_upper", 3.0},
@@ -71,7 +73,7 @@ json yarn_fit() {
 TEST(YarnSummary, ErrorsPerDirectionInTheFitsOrder) {
   const std::string s = yarn_summary(yarn_fit());
   EXPECT_EQ(s.rfind("yarn fit: ok\n", 0), 0u) << s;
-  EXPECT_TRUE(has(s, "  settings: 16 particles x 6 iterations, 5 samples per direction; local step implicit-filtering, "
+  EXPECT_TRUE(contains(s, "  settings: 16 particles x 6 iterations, 5 samples per direction; local step implicit-filtering, "
                      "at most 40 evaluations, 12 samples per direction; seed 1; c* at every sample\n"))
       << s;
   // weft before warp (the curves' order), warp without a bending figure.
@@ -92,27 +94,27 @@ TEST(YarnSummary, ParametersWithBoundsInTheSpacesOrderAndTheFixedOnes) {
   ASSERT_NE(kc1, std::string::npos) << s;
   EXPECT_LT(ks1, r1);
   EXPECT_LT(r1, kc1);
-  EXPECT_TRUE(has(s, "    ks2    =          120   fixed\n")) << s;
-  EXPECT_FALSE(has(s, "    ks1    =       1.2592   fixed")) << s;  // fitted here
+  EXPECT_TRUE(contains(s, "    ks2    =          120   fixed\n")) << s;
+  EXPECT_FALSE(contains(s, "    ks1    =       1.2592   fixed")) << s;  // fitted here
   // With linear stretch ks1 and eps_s are fixed instead.
   json linear = yarn_fit();
   linear["bounds"].erase("ks1");
   linear["bounds"].erase("eps_s");
-  EXPECT_TRUE(has(yarn_summary(linear), "    ks1    =       1.2592   fixed\n"));
+  EXPECT_TRUE(contains(yarn_summary(linear), "    ks1    =       1.2592   fixed\n"));
 }
 
 TEST(YarnSummary, IdentifiabilityRangesFreeFailedAndDownhill) {
   const std::string s = yarn_summary(yarn_fit());
-  EXPECT_TRUE(has(s, "  identifiability (g = 1.31 at the fit;")) << s;
-  EXPECT_TRUE(has(s, "    ks1        inf / 3                         unbounded               -\n")) << s;
-  EXPECT_TRUE(has(s, "    eps_s      2 / 3                              ±10 %           ±5 %\n")) << s;
-  EXPECT_TRUE(has(s, "    kb         2 / 0.5                       ÷/× > 100")) << s;
-  EXPECT_TRUE(has(s, "g falls by more than 1 % with kb moved")) << s;
-  EXPECT_TRUE(has(s, "  evaluations: 144\n")) << s;
-  EXPECT_TRUE(has(s, "  time: swarm 35.2 s, local 16.8 s, profile 3.81 s, total 56.3 s\n")) << s;
-  EXPECT_TRUE(has(s, "  swarm: swarm completed; 16 candidates stopped once they could not beat their particle's best\n"))
+  EXPECT_TRUE(contains(s, "  identifiability (g = 1.31 at the fit;")) << s;
+  EXPECT_TRUE(contains(s, "    ks1        inf / 3                         unbounded               -\n")) << s;
+  EXPECT_TRUE(contains(s, "    eps_s      2 / 3                              ±10 %           ±5 %\n")) << s;
+  EXPECT_TRUE(contains(s, "    kb         2 / 0.5                       ÷/× > 100")) << s;
+  EXPECT_TRUE(contains(s, "g falls by more than 1 % with kb moved")) << s;
+  EXPECT_TRUE(contains(s, "  evaluations: 144\n")) << s;
+  EXPECT_TRUE(contains(s, "  time: swarm 35.2 s, local 16.8 s, profile 3.81 s, total 56.3 s\n")) << s;
+  EXPECT_TRUE(contains(s, "  swarm: swarm completed; 16 candidates stopped once they could not beat their particle's best\n"))
       << s;
-  EXPECT_TRUE(has(s, "  local: implicit filtering converged\n")) << s;
+  EXPECT_TRUE(contains(s, "  local: implicit filtering converged\n")) << s;
 }
 
 TEST(YarnSummary, AFailedFitHasNoErrorRowsAndSaysWhy) {
@@ -125,10 +127,10 @@ TEST(YarnSummary, AFailedFitHasNoErrorRowsAndSaysWhy) {
   r.erase("identifiability");
   const std::string s = yarn_summary(r);
   EXPECT_EQ(s.rfind("yarn fit: FAILED: the best parameters failed on re-evaluation: rest shape\n", 0), 0u) << s;
-  EXPECT_FALSE(has(s, "    weft")) << s;
-  EXPECT_TRUE(has(s, "  no errors: the best parameters failed")) << s;
-  EXPECT_FALSE(has(s, "identifiability")) << s;
-  EXPECT_FALSE(has(s, ", profile ")) << s;
+  EXPECT_FALSE(contains(s, "    weft")) << s;
+  EXPECT_TRUE(contains(s, "  no errors: the best parameters failed")) << s;
+  EXPECT_FALSE(contains(s, "identifiability")) << s;
+  EXPECT_FALSE(contains(s, ", profile ")) << s;
 }
 
 TEST(YarnSummary, CurvesCsvWritesEverySampleAndNanWhereAValueIsMissing) {

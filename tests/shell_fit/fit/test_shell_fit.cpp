@@ -6,25 +6,14 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "fabrics_db/records/fabric_reader.hpp"
 #include "shell_fit/fit/shell_fit.hpp"
+#include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
-namespace fs = std::filesystem;
-
-// The bundled example with its weft stretch test only: an in-plane fit of about a second.
-db::Fabric weft_only_example() {
-  const auto load = db::load_fabric(fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo");
-  EXPECT_TRUE(load.ok()) << load.problems.to_string();
-  db::Fabric f = *load.fabric;
-  f.stretch_tests.erase(db::Direction::bias);
-  f.stretch_tests.erase(db::Direction::warp);
-  f.bending_tests.clear();
-  return f;
-}
+using yarnfit::testing::weft_only_example;  // an in-plane fit of about a second
 
 TEST(ShellFitOptions, EveryInvalidFieldIsNamedBeforeAnyWork) {
   ShellFitOptions o;
