@@ -35,7 +35,7 @@ struct Problem {
   db::PeriodicTile tile;
   yarn::ParameterScales scales;
   yarn::YarnParams truth;
-  std::vector<calibration::DirectionTargets> targets;
+  std::vector<db::DirectionTargets> targets;
 };
 
 // Known parameters inside the bounds, away from the defaults the swarm is centred on, in one
@@ -157,8 +157,8 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
 }
 
 calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s) {
-  s.progress = [](const std::string& stage, int step, int steps, double best, double seconds) {
-    std::fprintf(stderr, "\r  %s %d/%d  best %.4g  %.0f s      ", stage.c_str(), step, steps, best, seconds);
+  s.progress = [](const reports::Progress& e) {
+    std::fprintf(stderr, "\r  %s %d/%d  best %.4g  %.0f s      ", e.stage.c_str(), e.step, e.steps, e.best, e.seconds);
   };
   const auto r = calibration::fit_yarn_params(yarn::make_yarn_tile(p.tile), p.targets, p.scales, s);
   std::fprintf(stderr, "\n");

@@ -4,7 +4,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 namespace yarnfit::cli {
 
@@ -23,9 +26,12 @@ void add_synth_yarn_command(CLI::App& synth, int& exit_code);
 void add_yarn_commands(CLI::App& app, int& exit_code);
 // `yarn fit` (registered on `yarn`) and the whole pipeline `fit` (cli/commands_fit.cpp).
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code);
-// `shell fit FABRIC --out DIR` with these settings and the others at their defaults: the
-// stage `fit` runs first (cli/commands_shell.cpp). Returns the command's exit code.
-int run_shell_fit_command(const std::string& fabric, const std::string& out, double mesh_mm, int threads,
-                          bool quiet);
+
+// Runs `write`, which writes files into the folder `out`; false after printing
+// `out: file: what` when it throws (an internal failure: exit 1).
+bool write_files(const std::string& out, const std::function<void()>& write);
+// What `shell fit` prints when it ends (reports::shell_fit_report) and where it wrote; `fit`
+// prints the same for its shell stage (cli/commands_shell.cpp).
+void print_shell_report(const nlohmann::json& shell_fit, const std::string& out);
 
 }  // namespace yarnfit::cli

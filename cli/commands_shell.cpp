@@ -1,23 +1,17 @@
 // yarnfit shell …: fit the thin-shell model to a fabric's tests and write uniform targets.
-#include <unistd.h>
-
-#include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <memory>
-#include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/option_names.hpp"
+#include "cli/progress_display.hpp"
 #include "cli/shell_scene_args.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
-#include "fabrics_db/text_util.hpp"
-#include "shell_fit/fit/bending_fit.hpp"
-#include "shell_fit/fit/inplane_fit.hpp"
-#include "shell_fit/fit/shell_fit_report.hpp"
+#include "pipeline/outputs.hpp"
+#include "reports/summaries/shell_summary.hpp"
+#include "shell_fit/fit/shell_fit.hpp"
 #include "shell_fit/fit/synthetic_fabric.hpp"
-#include "shell_fit/targets/uniform_targets.hpp"
 
 namespace yarnfit::cli {
 namespace {
@@ -34,109 +28,35 @@ struct ShellArgs {
   bool full_range = false;
 };
 
-// One status line on the terminal, rewritten in place: stage, iteration, best error, time.
-void show_fit_progress(const shell::FitProgress& p) {
-  char error[32] = "-";
-  if (std::isfinite(p.best_error_pct)) std::snprintf(error, sizeof error, "%.2f %%", p.best_error_pct);
-  std::fprintf(stderr, "\r\033[Kshell fit: %s, iteration %d, best rms error %s, %.1f s", p.stage.c_str(), p.iteration,
-               error, p.seconds);
-  std::fflush(stderr);
+// The library's options for these arguments (validated by the library: every problem named).
+shell::ShellFitOptions shell_options(const ShellArgs& a) {
+  shell::ShellFitOptions o;
+  o.mesh = a.mesh_mm * 1e-3;
+  o.refinements = a.refine;
+  o.threads = a.threads;
+  o.max_iterations = a.max_iterations;
+  o.full_range = a.full_range;
+  return o;
 }
 
 int run_shell_fit(const ShellArgs& a) {
   const auto load = db::load_fabric(a.fabric);
-  if (!load.ok()) {
-    for (const auto& p : load.problems.items()) std::cerr << p.to_string() << "\n";
+  db::Problems problems = load.problems;
+  shell::ShellFitOptions options = shell_options(a);
+  problems.append(as_options(options.problems()));
+  if (!problems.empty()) {
+    std::cerr << problems.to_string();
     return k_exit_invalid_input;
   }
-  const db::Fabric& fabric = *load.fabric;
-  const bool show_progress = !a.quiet && ::isatty(STDERR_FILENO);
-
-  shell::InplaneFitOptions options;
-  options.target_edge = a.mesh_mm * 1e-3;
-  options.refinements = a.refine;
-  options.threads = a.threads;
-  options.max_iterations = a.max_iterations;
-  if (a.full_range) options.max_line_force = std::numeric_limits<double>::infinity();
-  if (show_progress) options.progress = show_fit_progress;
-  const auto fit = shell::fit_inplane(fabric, options);
-  if (show_progress) std::fprintf(stderr, "\n");
-
-  nlohmann::json report = shell::inplane_fit_json(fit);
-  report["fabric"] = fabric.id;
-  report["effects"] = {{"stretch", {"membrane"}}};
-  for (const char* k : {"ktheta_weft", "ktheta_bias", "ktheta_warp"}) report["params"][k] = nullptr;
-  report["errors"]["bending_pct"] = nullptr;
-
-  shell::ShellParams params;
-  params.inplane = fit.params;
-  shell::TargetRanges ranges;
-  for (const auto& d : fit.directions) ranges.max_stretch[static_cast<std::size_t>(d.direction)] = d.max_stretch;
-
-  // Bending (6.3.2), fitted separately with the in-plane model held, as in the thesis.
-  std::optional<shell::BendingFitResult> bend;
-  if (fabric.bending_tests.empty()) {
-    report["not_identified"].push_back("ktheta_weft, ktheta_bias, ktheta_warp: no bending test (not fitted)");
-  } else if (fit.converged) {
-    shell::BendingFitOptions bopt;
-    bopt.threads = a.threads;
-    if (show_progress) bopt.progress = show_fit_progress;
-    bend = shell::fit_bending(fabric, fit.params, bopt);
-    if (show_progress) std::fprintf(stderr, "\n");
-    params.bending = bend->params;
-    const char* names[3] = {"ktheta_weft", "ktheta_bias", "ktheta_warp"};
-    for (std::size_t k = 0; k < 3; ++k) {
-      report["params"][names[k]] = bend->params.ktheta[k];
-      ranges.max_curvature[k] = bend->max_curvature[k];
-    }
-    report["errors"]["bending_pct"] = bend->bending_pct;
-    for (const auto& s : bend->identified) report["identified"].push_back(s);
-    for (const auto& s : bend->not_identified) report["not_identified"].push_back(s);
-    for (const auto& s : bend->at_bounds) report["at_bounds"].push_back(s);
-    report["effects"]["pear_loop"] = bend->effects;
-    report["bending"] = {{"converged", bend->converged}, {"message", bend->message},
-                         {"iterations", bend->iterations}, {"simulations", bend->simulations},
-                         {"timing_s", bend->seconds}};
-    report["timing_s"] = fit.seconds + bend->seconds;
-  }
-  try {
-    fs::create_directories(a.out);
-    db::write_text_file_atomically(fs::path(a.out) / "shell_fit.json", report.dump(2) + "\n");
-    shell::write_uniform_targets_csv(shell::generate_uniform_targets(params, ranges),
-                                     fs::path(a.out) / "uniform_targets.csv");
-  } catch (const std::exception& e) {
-    std::cerr << a.out << ": file: " << e.what() << "\n";
-    return k_exit_internal;
-  }
-  if (!a.quiet) {
-    std::cout << "shell fit of " << fabric.id << ": " << (fit.converged ? "converged" : "NOT converged")
-              << " after " << fit.iterations << " iterations, " << db::format_g(fit.seconds, 3) << " s\n"
-              << "  force error " << db::format_g(fit.stretch_force_pct, 3) << " %, compression error "
-              << (fit.compression_measured ? db::format_g(fit.compression_pct, 3) + " %" : std::string("not measured")) << "\n";
-    if (fit.starts.size() > 1 && fit.chosen_start >= 0)
-      std::cout << "  best of " << fit.starts.size() << " data-based starts: "
-                << fit.starts[static_cast<std::size_t>(fit.chosen_start)].name
-                << (fit.restarts > 0 ? ", " + std::to_string(fit.restarts) + " restart(s) after stalls" : std::string())
-                << "\n";
-    for (const auto& d : fit.directions)
-      std::cout << "  " << db::to_string(d.direction) << ": fitted up to s = " << db::format_g(d.max_stretch, 3)
-                << " of " << db::format_g(d.measured_max_stretch, 3) << " measured\n";
-    for (const auto& n : fit.not_identified) std::cout << "  not identified: " << n << "\n";
-    for (const auto& n : fit.weakly_identified) std::cout << "  weakly identified: " << n << "\n";
-    for (const auto& b : fit.at_bounds) std::cout << "  WARNING: " << b << " ended on a search bound\n";
-    if (bend) {
-      std::cout << "  bending: " << (bend->converged ? "converged" : "NOT converged") << ", aspect-ratio error "
-                << db::format_g(bend->bending_pct, 3) << " %, " << db::format_g(bend->seconds, 3) << " s\n";
-      for (const auto& b : bend->at_bounds) std::cout << "  WARNING: " << b << " ended on a search bound\n";
-    }
-    std::cout << "  wrote " << (fs::path(a.out) / "shell_fit.json").string() << " and uniform_targets.csv\n";
-  }
-  if (!fit.converged) {
-    std::cerr << "shell fit did not converge: " << fit.message << "\n";
-    return k_exit_internal;
-  }
-  if (bend && !bend->converged) {
-    std::cerr << "bending fit did not converge: " << bend->message << "\n";
+  ProgressDisplay progress = ProgressDisplay::for_stderr(a.quiet);
+  options.progress = progress.callback("shell fit");
+  const shell::ShellFitResult fit = shell::fit_shell(*load.fabric, options);
+  progress.finish();
+  nlohmann::json report;
+  if (!write_files(a.out, [&] { report = pipeline::write_shell_outputs(fit, a.out); })) return k_exit_internal;
+  if (!a.quiet) print_shell_report(report, a.out);
+  if (!fit.converged()) {
+    std::cerr << fit.failure() << "\n";
     return k_exit_internal;
   }
   return k_exit_ok;
@@ -225,15 +145,19 @@ void add_synth_commands(CLI::App& app, int& exit_code) {
   sh->callback([args, &exit_code] { exit_code = run_synth_shell(*args); });
 }
 
-int run_shell_fit_command(const std::string& fabric, const std::string& out, double mesh_mm, int threads,
-                          bool quiet) {
-  ShellArgs a;
-  a.fabric = fabric;
-  a.out = out;
-  a.mesh_mm = mesh_mm;
-  a.threads = threads;
-  a.quiet = quiet;
-  return run_shell_fit(a);
+bool write_files(const std::string& out, const std::function<void()>& write) {
+  try {
+    write();
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << out << ": file: " << e.what() << "\n";
+    return false;
+  }
+}
+
+void print_shell_report(const nlohmann::json& shell_fit, const std::string& out) {
+  std::cout << reports::shell_fit_report(shell_fit) << "  wrote " << (fs::path(out) / "shell_fit.json").string()
+            << " and uniform_targets.csv\n";
 }
 
 void add_shell_commands(CLI::App& app, int& exit_code) {
@@ -245,10 +169,13 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
              "writes DIR/shell_fit.json and DIR/uniform_targets.csv");
   fit->add_option("FABRIC", args->fabric, "Fabric folder")->required();
   fit->add_option("-o,--out", args->out, "Output folder")->required();
-  fit->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->check(CLI::PositiveNumber)->capture_default_str();
-  fit->add_option("--refine", args->refine, "Midpoint subdivisions of the mesh")->check(CLI::Range(0, 4))->capture_default_str();
-  fit->add_option("--threads", args->threads, "Test directions simulated in parallel")->check(CLI::Range(1, 64))->capture_default_str();
-  fit->add_option("--max-iterations", args->max_iterations, "Ceres iterations of the in-plane fit after its multi-start")->check(CLI::Range(1, 1000))->capture_default_str();
+  // Ranges are checked by the library (ShellFitOptions::problems), which names every problem.
+  fit->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->capture_default_str();
+  fit->add_option("--refine", args->refine, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
+  fit->add_option("--threads", args->threads, "Test directions simulated in parallel (1-64)")->capture_default_str();
+  fit->add_option("--max-iterations", args->max_iterations,
+                  "Ceres iterations of the in-plane fit after its multi-start (1-1000)")
+      ->capture_default_str();
   fit->add_flag("--full-range", args->full_range,
                 "Fit every measured point, not only up to the power range (83.3 N/m line force)");
   fit->add_flag("-q,--quiet", args->quiet, "No progress or summary");

@@ -1,6 +1,5 @@
 // yarnfit shell sim: one scene of the thin-shell model from given parameters, outputs as JSON.
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -13,8 +12,9 @@
 #include "cli/shell_scene_args.hpp"
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/text_util.hpp"
-#include "shell_fit/fit/bending_fit.hpp"
+#include "shell_fit/fit/shell_fit.hpp"
 #include "shell_fit/fit/synthetic_fabric.hpp"
+#include "shell_fit/scenes/scene_json.hpp"
 
 namespace yarnfit::cli {
 namespace {
@@ -32,42 +32,14 @@ struct SimArgs {
 
 json null_or(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 
-// Reads the parameters of a shell_fit.json (its `params`, or the top level when there is no
-// `params`) into the values not given on the command line.
+// The parameters of a shell_fit.json into the values not given on the command line.
 void read_params_file(SimArgs& a, std::vector<std::string>& problems) {
-  std::ifstream in(a.params_file);
-  if (!in) {
-    problems.push_back(a.params_file + ": file: cannot be read");
-    return;
-  }
-  const json doc = json::parse(in, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) {
-    problems.push_back(a.params_file + ": file: not a JSON object (expected shell_fit.json)");
-    return;
-  }
-  const json& p = doc.contains("params") ? doc["params"] : doc;
-  if (!p.is_object()) {
-    problems.push_back(a.params_file + ": params: expected an object of parameter values");
-    return;
-  }
-  const auto values = shell_parameter_values(a.values);
-  bool any = false;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const char* name = k_shell_param_names[i];
-    if (!p.contains(name) || p[name].is_null()) continue;  // null: not fitted
-    any = true;
-    if (!p[name].is_number()) {
-      problems.push_back(a.params_file + ": params." + name + ": expected a number");
-      continue;
-    }
-    if (a.values.parameter_options[i]->count() == 0) *values[i] = p[name].get<double>();
-  }
-  if (!any) problems.push_back(a.params_file + ": params: none of kxx, kxy, kyy, kss, kn1, kn2, ktheta_* found");
-}
-
-json params_json(const ShellSceneArgs& v) {
-  return {{"kxx", v.kxx}, {"kxy", v.kxy}, {"kyy", v.kyy}, {"kss", v.kss}, {"kn1", v.kn1}, {"kn2", v.kn2},
-          {"ktheta_weft", v.ktheta_weft}, {"ktheta_bias", v.ktheta_bias}, {"ktheta_warp", v.ktheta_warp}};
+  db::Problems found;
+  const auto values = shell::read_shell_params(a.params_file, found);
+  for (const auto& p : found.items()) problems.push_back(p.to_string());
+  const auto targets = shell_parameter_values(a.values);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (values[i] && a.values.parameter_options[i]->count() == 0) *targets[i] = *values[i];
 }
 
 int run_stretch(const SimArgs& a, const shell::SyntheticShellOptions& o, db::Direction dir, json& out) {
@@ -80,39 +52,7 @@ int run_stretch(const SimArgs& a, const shell::SyntheticShellOptions& o, db::Dir
     return k_exit_invalid_input;
   }
   const auto run = scene->run(o.params.inplane, a.stretch);
-  out["scene"] = "stretch";
-  out["effects"] = run.effects;
-  out["mesh"] = {{"cell_m", setup.target_edge}, {"refinements", setup.refinements},
-                 {"vertices", scene->vertex_count()}, {"triangles", scene->mesh().triangle_count()}};
-  out["converged"] = run.ok;
-  out["message"] = run.message;
-  int iterations = 0;
-  double seconds = 0.0;
-  json samples = json::array();
-  for (std::size_t i = 0; i < a.stretch.size(); ++i) {
-    if (i < run.samples.size()) {
-      const auto& s = run.samples[i];
-      iterations += s.newton_iterations;
-      seconds += s.seconds;
-      samples.push_back({{"stretch", s.measured_stretch},
-                         {"clamp_stretch", s.clamp_stretch},
-                         {"force_N", s.force},
-                         {"line_force_N_per_m", s.force / setup.width},
-                         {"compression", s.compression},
-                         {"converged", true},
-                         {"newton_iterations", s.newton_iterations},
-                         {"residual_N", s.residual},
-                         {"seconds", s.seconds}});
-    } else {
-      samples.push_back({{"stretch", a.stretch[i]},
-                         {"converged", false},
-                         {"message", i == run.samples.size() ? run.message
-                                                              : std::string("not simulated: an earlier stretch failed")}});
-    }
-  }
-  out["samples"] = samples;
-  out["newton_iterations"] = iterations;
-  out["seconds"] = run.ok ? run.seconds : seconds;
+  out.update(shell::stretch_run_json(setup, *scene, a.stretch, run));
   return run.ok ? k_exit_ok : k_exit_internal;
 }
 
@@ -138,34 +78,7 @@ int run_pear(const SimArgs& a, const shell::SyntheticShellOptions& o, db::Direct
   }
   if (bad) return k_exit_invalid_input;
   const auto run = scene->run(o.params, distances);
-  out["scene"] = "pear";
-  out["effects"] = run.effects;
-  out["areal_density_kg_per_m2"] = setup.areal_density;
-  out["mesh"] = {{"cell_m", setup.target_edge}, {"refinements", setup.refinements},
-                 {"vertices", scene->mesh().vertex_count()}, {"triangles", scene->mesh().triangle_count()}};
-  out["governing_ktheta"] = shell::k_bending_names[scene->governing_ktheta()];
-  out["effective_ktheta"] = scene->effective_ktheta(o.params.bending);
-  out["bending_length_m"] = shell::bending_length(scene->effective_ktheta(o.params.bending), setup.areal_density,
-                                                  setup.gravity);
-  out["converged"] = run.ok;
-  out["message"] = run.message;
-  json samples = json::array();
-  for (const auto& s : run.samples) {
-    json j = {{"clamp_distance_m", s.clamp_distance},
-              {"aspect_ratio", s.aspect_ratio},
-              {"height_m", s.height},
-              {"width_m", s.width},
-              {"converged", s.converged},
-              {"newton_iterations", s.newton_iterations},
-              {"residual_N", s.residual},
-              {"seconds", s.seconds},
-              {"max_curvature_per_m", s.max_curvature}};
-    if (!s.message.empty()) j["message"] = s.message;
-    samples.push_back(j);
-  }
-  out["samples"] = samples;
-  out["newton_iterations"] = run.newton_iterations;
-  out["seconds"] = run.seconds;
+  out.update(shell::pear_run_json(setup, *scene, o.params.bending, run));
   return run.ok ? k_exit_ok : k_exit_internal;
 }
 
@@ -197,7 +110,7 @@ int run_shell_sim(SimArgs& a) {
   const shell::SyntheticShellOptions o = synthetic_options(a.values);
   json out;
   out["direction"] = a.direction;
-  out["params"] = params_json(a.values);
+  out["params"] = shell::params_json(o.params);
   out["swatch"] = {{"length_m", o.length}, {"width_m", o.width}};
   if (!pear) {
     out["swatch"]["gauge_length_m"] = null_or(o.gauge_length);

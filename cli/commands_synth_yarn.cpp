@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "yarn_fit/scenes/yarn_scene.hpp"
 
 namespace yarnfit::cli {
 
@@ -42,7 +43,7 @@ int run_synth_yarn(const SynthYarnArgs& a) {
   db::Problems found;
   const auto tile = db::read_pyp(a.pattern, found);
   std::optional<yarn::ParameterScales> scales;
-  if (tile && a.ks2 > 0.0) scales = yarn::ParameterScales{a.ks2, db::compute_tile_facts(*tile).r_est};
+  if (tile && a.ks2 > 0.0) scales = yarn::scales_of(*tile, a.ks2);
   const auto params = yarn::read_yarn_params(a.params_file, scales, found);
   for (const auto& p : found.items()) problems.push_back(p.to_string());
   if (!problems.empty() || !tile || !params) {

@@ -12,7 +12,6 @@
 // is still written with converged false and the reason, and the exit code is 1; invalid input
 // exits 2 before anything is simulated.
 #include <omp.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -21,11 +20,12 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/progress_display.hpp"
 #include "cli/yarn_scene.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "yarn_fit/scenes/sample_json.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
 namespace yarnfit::cli {
@@ -39,28 +39,12 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Short reason for a sample: "converged", the equilibrium's termination, or
-// "compression_search" when every solve converged but no zero-orthogonal-stress c was found.
-std::string termination(const yarn::Sample& s) {
-  if (s.ok) return "converged";
-  if (s.last_solve.converged()) return "compression_search";
-  return yarn::to_string(s.last_solve.status);
-}
-
-json number_or_null(bool ok, double v) { return ok && std::isfinite(v) ? json(v) : json(nullptr); }
-
-void show_stage(bool on, const std::string& text) {
-  if (!on) return;
-  std::fprintf(stderr, "\r\033[K%s", text.c_str());
-  std::fflush(stderr);
-}
-
 // Writes the optional OBJ dump; false (message on stderr) when the file cannot be written.
-bool dump_obj(const std::string& file, const YarnScene& scene, const Eigen::VectorXd& g,
+bool dump_obj(const std::string& file, const yarn::YarnScene& scene, const Eigen::VectorXd& g,
               const yarn::CoarseDeformation& chi, bool neighbours, bool converged, const std::string& what) {
   try {
-    write_tile_obj(*scene.system, g, chi, file, neighbours ? 3 : 1,
-                   what + (converged ? ", equilibrium" : ", NOT converged: the start state under this deformation"));
+    yarn::write_tile_obj(*scene.system, g, chi, file, neighbours ? 3 : 1,
+                         what + (converged ? ", equilibrium" : ", NOT converged: the start state under this deformation"));
     return true;
   } catch (const std::exception& e) {
     std::cerr << file << ": file: " << e.what() << "\n";
@@ -78,13 +62,22 @@ void place_output_file(const std::string& option, const std::string& file, const
   if (ec) problems.push_back(option + ": " + file + ": cannot create its folder: " + ec.message());
 }
 
-// Threads, then the rest shape (with its stage shown on a terminal). True when progress is shown.
-bool start_run(YarnScene& scene, const YarnSceneArgs& a, const std::string& command) {
+// A stage of a yarn command on the progress display (no steps: the rest shape, a solve).
+reports::Progress stage_event(const std::string& stage, double seconds) {
+  reports::Progress p;
+  p.stage = stage;
+  p.step_name.clear();
+  p.seconds = seconds;
+  return p;
+}
+
+// Threads, then the rest shape (its stage shown on a terminal).
+void start_run(yarn::YarnScene& scene, const YarnSceneArgs& a, const std::string& command, ProgressDisplay& progress,
+               Clock::time_point start) {
   omp_set_num_threads(a.threads);
-  const bool progress = !a.quiet && ::isatty(STDERR_FILENO);
-  show_stage(progress && a.rest_shape, command + ": rest shape (" + std::to_string(a.rest_rounds) + " rounds)");
-  prepare_rest_state(scene, a);
-  return progress;
+  if (a.rest_shape)
+    progress.update(command, stage_event("rest shape (" + std::to_string(a.rest_rounds) + " rounds)", seconds_since(start)));
+  yarn::prepare_rest_state(scene, scene_setup(a));
 }
 
 // ---------------------------------------------------------------------------------- sim
@@ -115,93 +108,18 @@ int run_yarn_sim(const YarnSimArgs& a) {
     for (const auto& p : problems) std::cerr << p << "\n";
     return k_exit_invalid_input;
   }
-  const bool bending = a.curvature_option->count() > 0;
-  const bool progress = start_run(*scene, a.scene, "yarn sim");
-  show_stage(progress, "yarn sim: equilibrium");
-
-  auto& system = *scene->system;
-  Eigen::VectorXd g = scene->g;
-  const auto sample_start = Clock::now();
-  const yarn::CoarseDeformation chi{a.stretch, a.compression, a.curvature, scene->angle};
-  yarn::Sample sample;
-  std::optional<yarn::BendingSample> bend;
-  int iterations = 0, solves = 0;
-  if (a.free_compression) {
-    sample = yarn::solve_free_compression(system, chi, g, scene->compression, scene->solve);
-    iterations += sample.newton_iterations;
-    solves += sample.solves;
-    if (sample.ok && bending) bend = yarn::simulate_bending(system, sample.chi, g, 0.0, scene->solve);
-  } else if (bending) {
-    bend = yarn::simulate_bending(system, chi, g, 0.0, scene->solve);
-    sample = bend->centre;
-  } else {
-    sample = yarn::simulate_sample(system, chi, g, scene->solve);
-    iterations = sample.newton_iterations;
-    solves = sample.solves;
-  }
-  if (bend) {
-    iterations += bend->centre.newton_iterations;
-    solves += bend->centre.solves;
-  }
-  const double seconds = seconds_since(sample_start);
-  if (progress) std::fprintf(stderr, "\r\033[K");
-
-  const bool rest_ok = !scene->rest || scene->rest->converged;
-  const bool sample_ok = sample.ok && (!bend || bend->ok);
-  const bool ok = rest_ok && sample_ok;
-  std::string message;
-  std::string reason = termination(sample);
-  if (!sample.ok) message = sample.message;
-  else if (bend && !bend->ok) {
-    reason = "bending_stencil";
-    message = "bending stress: " + bend->message;
-  }
-  if (!rest_ok) {
-    if (sample_ok) reason = std::string("rest_shape_") + yarn::to_string(scene->rest->last_solve.status);
-    message = (message.empty() ? "" : message + "; ") + "rest shape: last solve " +
-              yarn::to_string(scene->rest->last_solve.status) + ": " + scene->rest->last_solve.message;
-  }
-
-  json out;
-  out["pattern"] = a.scene.pattern;
-  out["direction"] = a.scene.direction;
-  out["angle_rad"] = scene->angle;
-  out["stretch"] = a.stretch;
-  out["compression_mode"] = a.free_compression ? "free" : "fixed";
-  if (a.free_compression) out["compression_method"] = a.scene.compression_method;
-  out["curvature"] = a.curvature;
-  out["energy_density"] = number_or_null(sample.ok, sample.energy_density);
-  out["stress_s"] = number_or_null(sample.ok, sample.stress_s);
-  out["stress_c"] = number_or_null(sample.ok, sample.stress_c);
-  out["compression"] = a.free_compression ? number_or_null(sample.ok, sample.chi.compression) : json(a.compression);
-  if (sample.ok && !chi.curved()) {
-    const auto& p = sample.coarse_stress;
-    out["coarse_stress"] = json::array({json::array({p(0, 0), p(0, 1)}), json::array({p(1, 0), p(1, 1)})});
-  }
-  if (bending) {
-    out["stress_kappa"] = number_or_null(bend && bend->ok, bend ? bend->stress_kappa : 0.0);
-    out["bending_step_per_m"] = 1e-3 / system.tile().radius;
-  }
-  out["converged"] = ok;
-  out["termination"] = ok ? "converged" : reason;
-  out["message"] = message;
-  out["newton_iterations"] = iterations;  // every solve of this sample (not the rest shape)
-  out["solves"] = solves;
-  out["seconds"] = seconds;
-  out["residual_N"] = sample.last_solve.residual;
-  out["tolerance_N"] = sample.last_solve.tolerance;
-  out["min_contact_distance_m"] = sample.last_solve.min_contact_distance;
-  out["effects"] = sample.effects;  // the terms assembled, and co-rotation when curved
-  out["rest_shape"] = rest_shape_json(*scene);
-  out["params"] = yarn::to_json(scene->params);
-  out["tile"] = tile_json(*scene);
-  out["threads"] = a.scene.threads;
-  out["total_seconds"] = seconds_since(start);
-  out["units"] = units_json();
+  const yarn::SceneSampleRequest request{a.stretch, a.compression, a.free_compression, a.curvature,
+                                         a.curvature_option->count() > 0};
+  ProgressDisplay progress = ProgressDisplay::for_stderr(a.scene.quiet);
+  start_run(*scene, a.scene, "yarn sim", progress, start);
+  progress.update("yarn sim", stage_event("equilibrium", seconds_since(start)));
+  const yarn::SceneSample sample = yarn::simulate_scene_sample(*scene, request);
+  progress.finish();
+  const json out = yarn::sample_json(*scene, request, sample, a.scene.threads, seconds_since(start));
 
   bool dumped = true;
   if (!a.dump.empty()) {
-    dumped = dump_obj(a.dump, *scene, g, sample.ok ? sample.chi : chi, a.dump_neighbours, sample.ok,
+    dumped = dump_obj(a.dump, *scene, sample.g, sample.state_chi(), a.dump_neighbours, sample.sample.ok,
                       "yarn sim " + a.scene.pattern + " " + a.scene.direction);
   }
   if (a.json) {
@@ -212,22 +130,22 @@ int run_yarn_sim(const YarnSimArgs& a) {
     };
     std::cout << "yarn sim " << a.scene.pattern << ", " << a.scene.direction << ": s = " << db::format_g(a.stretch)
               << ", c = " << f(out["compression"]) << (a.free_compression ? " (free)" : " (fixed)")
-              << (bending ? ", curvature " + db::format_g(a.curvature) + " 1/m" : std::string()) << "\n"
-              << "  " << (ok ? "converged" : "NOT converged (" + reason + ")") << ", " << iterations
-              << " Newton iterations in " << solves << " solve(s), " << db::format_g(seconds, 3)
-              << " s\n"
+              << (request.bending ? ", curvature " + db::format_g(a.curvature) + " 1/m" : std::string()) << "\n"
+              << "  " << (sample.ok ? "converged" : "NOT converged (" + sample.termination + ")") << ", "
+              << sample.newton_iterations << " Newton iterations in " << sample.solves << " solve(s), "
+              << db::format_g(sample.seconds, 3) << " s\n"
               << "  energy density " << f(out["energy_density"]) << " J/m^2, stress_s " << f(out["stress_s"])
               << " N/m, orthogonal stress " << f(out["stress_c"], 3) << " N/m\n";
-    if (bending) std::cout << "  stress_kappa " << f(out["stress_kappa"]) << " N\n";
+    if (request.bending) std::cout << "  stress_kappa " << f(out["stress_kappa"]) << " N\n";
     if (scene->rest)
       std::cout << "  rest shape: " << scene->rest->rounds << " rounds, " << db::format_g(scene->rest->seconds, 3)
                 << " s, largest rest-length change " << db::format_g(100 * scene->rest->max_length_change, 3)
                 << " %\n";
     if (!a.dump.empty() && dumped) std::cout << "  wrote " << a.dump << "\n";
   }
-  if (!ok) std::cerr << "yarn sim: not converged: " << message << "\n";
+  if (!sample.ok) std::cerr << "yarn sim: not converged: " << sample.message << "\n";
   if (!dumped) return k_exit_internal;
-  return ok ? k_exit_ok : k_exit_internal;
+  return sample.ok ? k_exit_ok : k_exit_internal;
 }
 
 // -------------------------------------------------------------------------------- curve
@@ -240,8 +158,6 @@ struct YarnCurveArgs {
   std::string dump_dir;
   bool dump_neighbours = false;
 };
-
-std::string csv_number(bool ok, double v) { return ok && std::isfinite(v) ? db::format_g(v, 12) : std::string(); }
 
 int run_yarn_curve(const YarnCurveArgs& a) {
   const auto start = Clock::now();
@@ -260,7 +176,9 @@ int run_yarn_curve(const YarnCurveArgs& a) {
     for (const auto& p : problems) std::cerr << p << "\n";
     return k_exit_invalid_input;
   }
-  const bool progress = start_run(*scene, a.scene, "yarn curve");
+  ProgressDisplay progress = ProgressDisplay::for_stderr(a.scene.quiet);
+  start_run(*scene, a.scene, "yarn curve", progress, start);
+  const std::string task = "yarn curve " + a.scene.direction;
 
   const std::vector<double> stretches = yarn::even_stretches(a.max_stretch, a.points);
   const int width = static_cast<int>(std::to_string(a.points - 1).size());
@@ -277,30 +195,22 @@ int run_yarn_curve(const YarnCurveArgs& a) {
                           "yarn curve " + a.scene.pattern + " " + a.scene.direction) &&
                  dumps_ok;
     }
-    if (!s.ok) std::cerr << (progress ? "\r\033[K" : "") << "yarn curve: s = " << db::format_g(s.chi.stretch)
-                         << ": not converged: " << s.message << "\n";
-    if (progress) {
-      const double elapsed = seconds_since(sweep_start);
-      const double left = elapsed / static_cast<double>(i + 1) * static_cast<double>(stretches.size() - i - 1);
-      std::fprintf(stderr, "\r\033[Kyarn curve %s: point %zu/%zu, s = %.4g, %.1f s, about %.0f s left",
-                   a.scene.direction.c_str(), i + 1, stretches.size(), s.chi.stretch, elapsed, left);
-      std::fflush(stderr);
+    if (!s.ok) {
+      progress.finish();
+      std::cerr << "yarn curve: s = " << db::format_g(s.chi.stretch) << ": not converged: " << s.message << "\n";
     }
+    reports::Progress p;
+    p.step_name = "point";
+    p.step = static_cast<int>(i) + 1;
+    p.steps = static_cast<int>(stretches.size());
+    p.detail = "s = " + db::format_g(s.chi.stretch, 4);
+    p.seconds = seconds_since(sweep_start);
+    progress.update(task, p);
   };
   const yarn::StretchSweep sweep = yarn::sweep_stretch(*scene->system, scene->angle, stretches, scene->g, options);
-  if (progress) std::fprintf(stderr, "\r\033[K");
-
-  std::ostringstream csv;
-  csv << "direction,stretch,compression,energy_density_J_per_m2,stress_s_N_per_m,converged,newton_iterations,seconds,"
-         "solves,stress_c_N_per_m,termination\n";
-  for (const auto& s : sweep.points) {
-    csv << a.scene.direction << "," << db::format_g(s.chi.stretch, 12) << "," << csv_number(s.ok, s.chi.compression)
-        << "," << csv_number(s.ok, s.energy_density) << "," << csv_number(s.ok, s.stress_s) << "," << (s.ok ? 1 : 0)
-        << "," << s.newton_iterations << "," << db::format_g(s.seconds, 6) << "," << s.solves << ","
-        << csv_number(s.ok, s.stress_c) << "," << termination(s) << "\n";
-  }
+  progress.finish();
   try {
-    db::write_text_file_atomically(a.out, csv.str());
+    db::write_text_file_atomically(a.out, yarn::sweep_csv(a.scene.direction, sweep));
   } catch (const std::exception& e) {
     std::cerr << a.out << ": file: " << e.what() << "\n";
     return k_exit_internal;

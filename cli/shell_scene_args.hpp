@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "shell_fit/fit/shell_fit.hpp"
 #include "shell_fit/fit/synthetic_fabric.hpp"
 
 namespace yarnfit::cli {
@@ -32,8 +33,7 @@ struct ShellSceneArgs {
 };
 
 // The parameter names of shell_fit.json's `params`, in the order of parameter_options.
-inline const char* const k_shell_param_names[9] = {"kxx", "kxy", "kyy", "kss", "kn1", "kn2",
-                                                   "ktheta_weft", "ktheta_bias", "ktheta_warp"};
+using shell::k_shell_param_names;
 
 // --kxx … --kn2 and --ktheta-weft/bias/warp.
 void add_shell_parameter_options(CLI::App& app, ShellSceneArgs& args);

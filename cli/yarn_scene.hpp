@@ -1,23 +1,15 @@
 #pragma once
-// Set-up shared by `yarnfit yarn sim` and `yarnfit yarn curve`: the options naming the pattern,
-// the yarn parameters and the direction, the rest-shape heuristic (6.5.2) and solver limits;
-// loading them into a periodic yarn system; the JSON records both commands print; and the
-// OBJ dump of a tile state for inspection.
+// Command-line options shared by `yarnfit yarn sim` and `yarnfit yarn curve`: the pattern,
+// the yarn parameters and the direction, the rest-shape heuristic (6.5.2) and solver limits,
+// turned into the library's scene set-up (yarn_fit/scenes/yarn_scene.hpp).
 
 #include <CLI/CLI.hpp>
 
-#include <Eigen/Core>
-#include <filesystem>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "fabrics_db/tile/periodic_tile.hpp"
-#include "yarn_fit/homogenise/readouts.hpp"
-#include "yarn_fit/homogenise/rest_shape.hpp"
+#include "yarn_fit/scenes/yarn_scene.hpp"
 
 namespace yarnfit::cli {
 
@@ -38,40 +30,11 @@ struct YarnSceneArgs {
 // --max-iterations, --compression-method, --threads, -q/--quiet.
 void add_yarn_scene_options(CLI::App& app, YarnSceneArgs& args);
 
-// A loaded scene: the tile, parameters and system, and the state the simulation starts from.
-struct YarnScene {
-  db::PeriodicTile pattern;
-  yarn::YarnParams params;
-  std::unique_ptr<yarn::YarnSystem> system;
-  Eigen::VectorXd g;  // start state: the relaxed rest state, or zeros (the affine state)
-  double angle = 0.0;  // direction of the stretch from the weft (x) axis [rad]
-  yarn::EquilibriumOptions solve;
-  yarn::CompressionOptions compression;
-  std::optional<yarn::RestShapeResult> rest;  // set when the heuristic ran
-};
+// The library's set-up for these arguments.
+yarn::YarnSceneSetup scene_setup(const YarnSceneArgs& args);
 
 // Reads the pattern and the parameters. Every problem is appended as one line
 // `file:line: field: message` (or `--option: value: message`); empty result then.
-std::optional<YarnScene> load_yarn_scene(const YarnSceneArgs& args, std::vector<std::string>& problems);
-
-// Runs the rest-shape heuristic when args.rest_shape; scene.g is then its relaxed state.
-void prepare_rest_state(YarnScene& scene, const YarnSceneArgs& args);
-
-// Direction name to the angle of the coarse deformation [rad]; weft 0, bias π/4, warp π/2.
-double direction_angle(const std::string& direction);
-
-nlohmann::json rest_shape_json(const YarnScene& scene);
-nlohmann::json tile_json(const YarnScene& scene);
-nlohmann::json units_json();
-
-// Writes the tile state `g` under the coarse deformation `chi` as Wavefront OBJ: one `v`
-// per vertex placement and one `l` polyline per periodic yarn (a yarn that advances by a
-// period ends at the copy of its first vertex, a closed loop returns to it), deformed
-// positions in metres relative to the tile centroid. `copies` = 1 writes the tile, 3 the
-// 3 × 3 block of its periodic copies around it (one `o` object per copy). Returns the number
-// of segments written per copy (the tile's edge count). Throws std::runtime_error naming the
-// file when it cannot be written.
-int write_tile_obj(const yarn::YarnSystem& system, const Eigen::VectorXd& g, const yarn::CoarseDeformation& chi,
-                   const std::filesystem::path& file, int copies, const std::string& comment);
+std::optional<yarn::YarnScene> load_yarn_scene(const YarnSceneArgs& args, std::vector<std::string>& problems);
 
 }  // namespace yarnfit::cli

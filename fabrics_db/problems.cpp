@@ -5,7 +5,8 @@ namespace yarnfit::db {
 std::string Problem::to_string() const {
   std::string out = file;
   if (line > 0) out += ":" + std::to_string(line);
-  out += ": " + (field.empty() ? std::string("file") : field) + ": " + message;
+  if (!out.empty()) out += ": ";
+  out += (field.empty() ? std::string("file") : field) + ": " + message;
   return out;
 }
 

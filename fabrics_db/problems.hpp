@@ -2,7 +2,9 @@
 // Problems found in user input, collected rather than thrown so that one run reports
 // every problem of every file (SPEC §2, §5). Each renders as one line
 //   file:line: field: message
-// with ":line" left out where the file has no lines to point at (a missing file).
+// with ":line" left out where the file has no lines to point at (a missing file), and
+// "file:line: " left out where the problem is in options rather than in a file (`field` then
+// names the option, e.g. "particles: must be at least 2").
 
 #include <cstddef>
 #include <string>
@@ -11,7 +13,7 @@
 namespace yarnfit::db {
 
 struct Problem {
-  std::string file;     // path as the user would type it
+  std::string file;     // path as the user would type it; empty for an option
   int line = 0;         // 1-based line in `file`; 0 when there is no line to name
   std::string field;    // YAML key path, CSV column or pyp section; "file" for the file itself
   std::string message;  // what is wrong and, where possible, what is expected

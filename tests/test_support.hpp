@@ -44,6 +44,8 @@ struct CommandResult {
 CommandResult run_cli(const std::string& args);
 // Quotes a path for the shell.
 std::string quoted(const fs::path& p);
+// True when `part` occurs in `text` (for EXPECT_TRUE(contains(report, "line\n")) << report).
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace yarnfit::testing
 

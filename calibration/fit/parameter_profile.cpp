@@ -127,7 +127,8 @@ nlohmann::json to_json(const ParameterProfile& p) {
                        // null with "free": the residuals do not pin it (range unbounded)
                        {"range_factor", number_or_null(e.range_factor)},
                        {"range_alone_factor", number_or_null(e.range_alone_factor)},
-                       {"free", std::isinf(e.range_factor)}};
+                       {"free", std::isinf(e.range_factor)},
+                       {"free_alone", std::isinf(e.range_alone_factor)}};
   }
   j["parameters"] = entries;
   j["evaluations"] = p.evaluations;

@@ -9,6 +9,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "fabrics_db/text_util.hpp"
+#include "numerics/terms/scene.hpp"
+#include "reports/metrics/error_metrics.hpp"
+
 namespace yarnfit::calibration {
 
 namespace {
@@ -33,6 +37,22 @@ void take_summary(const Summary& r, LocalStepSummary& out) {
   out.report = r.brief_report();
 }
 
+// A progress event of the fit: the best objective of the stage, its planned steps (the local
+// step may stop before its evaluation budget).
+reports::Progress fit_progress(const char* stage, const char* step_name, int step, int steps, bool budget,
+                               double best, double seconds) {
+  reports::Progress p;
+  p.stage = stage;
+  p.step_name = step_name;
+  p.step = step;
+  p.steps = steps;
+  p.budget = budget;
+  p.best = best;
+  p.best_label = "objective";
+  p.seconds = seconds;
+  return p;
+}
+
 // 0: c* at every sample; N ≥ 2: at N nodes, at most one per sample.
 void set_compression_nodes(ObjectiveOptions& o, int nodes, int samples) {
   o.free_compression_every_sample = nodes == 0;
@@ -55,26 +75,40 @@ std::optional<LocalMethod> local_method_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-std::string YarnFitSettings::invalid_reason() const {
-  if (swarm && particles < 2) return "particles: must be at least 2";
-  if (swarm && iterations < 1) return "iterations: must be at least 1";
-  if (swarm_samples < 2) return "swarm_samples: must be at least 2";
-  if (local_samples < 2) return "local_samples: must be at least 2";
+db::Problems YarnFitSettings::problems() const {
+  db::Problems out;
+  const auto say = [&out](const char* field, const std::string& message) { out.add("", 0, field, message); };
+  const auto got = [](double v) { return " (got " + db::format_g(v) + ")"; };
+  if (swarm && particles < 2) say("particles", "must be at least 2" + got(particles));
+  if (swarm && iterations < 1) say("iterations", "must be at least 1" + got(iterations));
+  if (swarm_samples < 2) say("swarm_samples", "must be at least 2" + got(swarm_samples));
+  if (local_samples < 2) say("local_samples", "must be at least 2" + got(local_samples));
   if (swarm_compression_nodes != 0 && swarm_compression_nodes < 2)
-    return "swarm_compression_nodes: must be 0 (every sample) or at least 2";
+    say("swarm_compression_nodes", "must be 0 (every sample) or at least 2" + got(swarm_compression_nodes));
   if (local_compression_nodes != 0 && local_compression_nodes < 2)
-    return "local_compression_nodes: must be 0 (every sample) or at least 2";
-  if (local_evaluations < 0) return "local_evaluations: must not be negative";
-  if (!swarm && local_evaluations < 1) return "local_evaluations: without the swarm the local step needs at least 1";
-  if (!(local_initial_step > 0.0 && local_initial_step <= 1.0)) return "local_initial_step: must be in (0, 1]";
-  if (!(local_initial_scale > 0.0 && local_initial_scale <= 0.5)) return "local_initial_scale: must be in (0, 0.5]";
+    say("local_compression_nodes", "must be 0 (every sample) or at least 2" + got(local_compression_nodes));
+  if (local_evaluations < 0) say("local_evaluations", "must not be negative" + got(local_evaluations));
+  else if (!swarm && local_evaluations < 1)
+    say("local_evaluations", "without the swarm the local step needs at least 1" + got(local_evaluations));
+  if (!(local_initial_step > 0.0 && local_initial_step <= 1.0))
+    say("local_initial_step", "must be in (0, 1]" + got(local_initial_step));
+  if (!(local_initial_scale > 0.0 && local_initial_scale <= 0.5))
+    say("local_initial_scale", "must be in (0, 0.5]" + got(local_initial_scale));
   if (!(local_min_scale > 0.0 && local_min_scale <= local_initial_scale))
-    return "local_min_scale: must be in (0, local_initial_scale]";
-  if (threads < 0) return "threads: must not be negative";
-  if (bending_points != 0 && bending_points < 2) return "bending_points: must be 0 (no check) or at least 2";
-  if (!(profile_step >= 0.0 && profile_step < 1.0)) return "profile_step: must be in [0, 1) (0: no profile)";
-  if (resume && checkpoint.empty()) return "resume: needs a checkpoint file";
-  return {};
+    say("local_min_scale", "must be in (0, local_initial_scale]" + got(local_min_scale));
+  if (threads < 0) say("threads", "must not be negative (0: OpenMP's default)" + got(threads));
+  if (bending_points != 0 && bending_points < 2)
+    say("bending_points", "must be 0 (no check) or at least 2" + got(bending_points));
+  if (!(profile_step >= 0.0 && profile_step < 1.0)) say("profile_step", "must be in [0, 1) (0: no profile)" + got(profile_step));
+  if (resume && checkpoint.empty()) say("resume", "needs a checkpoint file");
+  return out;
+}
+
+std::string YarnFitSettings::invalid_reason() const {
+  const db::Problems all = problems();
+  std::string out;
+  for (const auto& p : all.items()) out += (out.empty() ? "" : "; ") + p.to_string();
+  return out;
 }
 
 swarm::ParameterSpace yarn_parameter_space(const yarn::ParameterScales& scales, bool linear_stretch) {
@@ -122,13 +156,14 @@ Eigen::VectorXd point_from_params(const yarn::YarnParams& p, bool linear_stretch
   return x;
 }
 
-YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<DirectionTargets>& targets,
+YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings) {
   if (const std::string why = settings.invalid_reason(); !why.empty())
     throw std::invalid_argument("yarn fit settings: " + why);
   const auto start = Clock::now();
   YarnFitResult out;
   const swarm::ParameterSpace space = yarn_parameter_space(scales, settings.linear_stretch);
+  out.bounds = space.parameters();
   // Where the local step starts without the swarm: the middle of the bounds or --start,
   // checked before any simulation.
   Eigen::VectorXd best = space.from_unit(Eigen::VectorXd::Constant(space.dimension(), 0.5));
@@ -161,7 +196,8 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
     run.checkpoint = settings.checkpoint;
     if (settings.progress) {
       run.progress = [&](const swarm::SwarmProgress& p) {
-        settings.progress("swarm", p.record.iteration, p.iterations, p.record.best_value, seconds_since(start));
+        settings.progress(fit_progress("swarm", "iteration", p.record.iteration, p.iterations, false,
+                                       p.record.best_value, seconds_since(start)));
         return true;
       };
     }
@@ -215,7 +251,8 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
       swarm::ImplicitFilteringProgress progress;
       if (settings.progress) {
         progress = [&](const swarm::ImplicitFilteringSummary& p) {
-          settings.progress("local", p.evaluations, settings.local_evaluations, p.best_value, seconds_since(start));
+          settings.progress(fit_progress("local", "evaluation", p.evaluations, settings.local_evaluations, true,
+                                         p.best_value, seconds_since(start)));
         };
       }
       const swarm::ImplicitFilteringSummary r = swarm::run_implicit_filtering(space, residuals, best, is, progress);
@@ -239,7 +276,9 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
         const double v = value_at(fine, x);
         ++step;
         local_best = std::min(local_best, v);
-        if (settings.progress) settings.progress("local", step, settings.local_evaluations, local_best, seconds_since(start));
+        if (settings.progress)
+          settings.progress(fit_progress("local", "evaluation", step, settings.local_evaluations, true, local_best,
+                                         seconds_since(start)));
         return v;
       };
       const swarm::CobylaSummary r = swarm::run_cobyla(space, f, best, cs);
@@ -254,14 +293,20 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
 
   out.params = params_from_point(best, scales, settings.linear_stretch);
   out.final = fine.evaluate(out.params);
+  out.effects = out.final.effects;
   ++out.evaluations;
   const Eigen::VectorXd u = space.to_unit(best);
   for (int i = 0; i < space.dimension(); ++i)
     if (u[i] < 1e-3 || u[i] > 1.0 - 1e-3) out.on_bound.push_back(space.parameter(i).name);
   out.ok = out.final.ok;
-  if (!out.ok) out.message = "the best parameters failed on re-evaluation: " + out.final.message;
-  if (out.ok && settings.bending_points > 0)
+  if (!out.ok) {
+    out.message = "the best parameters failed on re-evaluation: " + out.final.message;
+    out.final.directions.clear();  // the directions run before the failure: not the fit's errors
+  }
+  if (out.ok && settings.bending_points > 0) {
     out.bending = check_bending(tile, targets, out.params, fine.options(), settings.bending_points);
+    numerics::merge_effects(out.effects, out.bending.effects);
+  }
   if (out.ok && settings.profile_step > 0.0) {
     out.profile = profile_parameters(
         fine, space, best, out.final,
@@ -275,15 +320,30 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<Dire
 
 namespace {
 
-// Mean over directions (each direction's figure is already a mean over its samples).
-double mean_over_directions(const ObjectiveResult& r, double DirectionError::*field) {
-  if (r.directions.empty()) return std::numeric_limits<double>::quiet_NaN();
-  double sum = 0.0;
-  for (const auto& d : r.directions) sum += d.*field;
-  return sum / static_cast<double>(r.directions.size());
+// The overall figure of one error: the mean over directions (each direction's figure is
+// already a mean over its samples).
+double overall(const ObjectiveResult& r, double DirectionError::*field) {
+  std::vector<double> per_direction;
+  for (const auto& d : r.directions) per_direction.push_back(d.*field);
+  return reports::mean_over_directions(per_direction);
 }
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+nlohmann::json number_or_null(double v) { return reports::pct_json(v); }
+
+// The final evaluation's curves, in direction order (yarn_curves.csv is written from them).
+nlohmann::json curves_json(const ObjectiveResult& final) {
+  nlohmann::json curves = nlohmann::json::array();
+  for (const auto& d : final.directions) {
+    curves.push_back({{"direction", std::string(db::to_string(d.scale.direction))},
+                      {"stretch", d.stretch},
+                      {"target_S_N_per_m", d.stress_target},
+                      {"simulated_S_N_per_m", d.stress_sim},
+                      {"target_compression", d.compression_target},
+                      {"simulated_compression", d.compression_sim},
+                      {"weight", d.weight}});
+  }
+  return curves;
+}
 
 }  // namespace
 
@@ -293,9 +353,9 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
   if (!r.message.empty()) j["message"] = r.message;
   j["params"] = yarn::to_json(r.params);
   j["errors"] = {
-      {"stress_comfort_pct", number_or_null(mean_over_directions(r.final, &DirectionError::stress_comfort_pct))},
-      {"stress_full_pct", number_or_null(mean_over_directions(r.final, &DirectionError::stress_full_pct))},
-      {"compression_pct", number_or_null(mean_over_directions(r.final, &DirectionError::compression_pct))},
+      {"stress_comfort_pct", number_or_null(overall(r.final, &DirectionError::stress_comfort_pct))},
+      {"stress_full_pct", number_or_null(overall(r.final, &DirectionError::stress_full_pct))},
+      {"compression_pct", number_or_null(overall(r.final, &DirectionError::compression_pct))},
       // Not fitted (6.11 has stretch and compression only): the fitted model checked
       // against the bending targets afterwards (bending_check.hpp).
       {"bending_pct", r.bending.ok && !r.bending.directions.empty() ? nlohmann::json(r.bending.bending_pct)
@@ -318,6 +378,14 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
     d["curl_stress_kappa_N"] = b.curl_stress;
   }
   j["errors_by_direction"] = dirs;
+  // A fit without a final evaluation (every candidate failed, or the best failed on
+  // re-evaluation) has no errors: null, with the reason.
+  j["errors_reason"] = r.final.ok ? nlohmann::json() : nlohmann::json(r.message.empty() ? r.final.message : r.message);
+  j["curves"] = curves_json(r.final);
+  j["effects"] = r.effects;
+  nlohmann::json bounds = nlohmann::json::object();
+  for (const auto& p : r.bounds) bounds[p.name] = {{"lower", p.lower}, {"upper", p.upper}, {"log", p.log_space}};
+  j["bounds"] = bounds;
   if (!r.bending.message.empty()) j["bending_check"] = {{"ok", r.bending.ok}, {"message", r.bending.message}};
   j["objective"] = r.final.ok ? number_or_null(r.final.value) : nlohmann::json();
   j["on_bound"] = r.on_bound;
@@ -346,12 +414,19 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"swarm_cutoff", settings.swarm_cutoff},
   };
   if (!settings.swarm && settings.start) j["settings"]["start"] = yarn::to_json(*settings.start);
+  // After --resume the swarm ran with the checkpoint's settings, not the caller's.
+  if (settings.swarm && settings.resume && !r.swarm.history.empty()) {
+    j["settings"]["particles"] = r.swarm.settings.particles;
+    j["settings"]["iterations"] = r.swarm.settings.iterations;
+    j["settings"]["resumed_from"] = settings.checkpoint.string();
+  }
   if (settings.swarm) {
     nlohmann::json history = nlohmann::json::array();
     for (const auto& h : r.swarm.history)
       history.push_back({{"iteration", h.iteration}, {"best", number_or_null(h.best_value)}, {"failed", h.failed}});
     j["swarm"] = {{"best", number_or_null(r.swarm.best_value)}, {"evaluations", r.swarm.evaluations},
-                  {"failed", r.swarm.failed}, {"stopped_at_cutoff", r.swarm_stopped}, {"history", history}};
+                  {"failed", r.swarm.failed}, {"stopped_at_cutoff", r.swarm_stopped}, {"history", history},
+                  {"report", r.swarm.brief_report()}};
   }
   if (r.local.ran) {
     j["local"] = {{"method", to_string(r.local.method)},
@@ -360,7 +435,8 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
                   {"best", number_or_null(r.local.best_value)},
                   {"start", number_or_null(r.local.start_value)},
                   {"evaluations", r.local.evaluations},
-                  {"failed", r.local.failed}};
+                  {"failed", r.local.failed},
+                  {"report", r.local.report}};
     if (r.local.method == LocalMethod::implicit_filtering) {
       j["local"]["iterations"] = r.local.iterations;
       j["local"]["final_scale"] = r.local.final_scale;

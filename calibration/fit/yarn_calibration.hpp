@@ -27,6 +27,8 @@
 #include "calibration/fit/parameter_profile.hpp"
 #include "calibration/objective/bending_check.hpp"
 #include "calibration/objective/yarn_objective.hpp"
+#include "fabrics_db/problems.hpp"
+#include "reports/progress.hpp"
 #include "swarm/cobyla.hpp"
 #include "swarm/implicit_filtering.hpp"
 #include "swarm/particle_swarm.hpp"
@@ -121,11 +123,16 @@ struct YarnFitSettings {
   // fit, 2 evaluations per parameter; 0 skips it (--no-profile).
   double profile_step = 0.1;
   ObjectiveOptions objective;        // samples and rest_shape are set from the fields above
-  // Progress per swarm iteration and per local evaluation: stage ("swarm", "local"), step,
-  // steps planned, best objective so far, seconds since the start.
-  std::function<void(const std::string&, int, int, double, double)> progress;
+  // Progress per swarm iteration (stage "swarm", the iterations planned) and per local
+  // evaluation (stage "local", the evaluation budget): best objective so far, seconds since
+  // the start of the fit.
+  reports::ProgressFn progress;
 
-  [[nodiscard]] std::string invalid_reason() const;  // empty when valid
+  // Every invalid field, each named as above ("particles", "swarm_samples", …); empty when
+  // the settings are usable. Checked before any work starts.
+  [[nodiscard]] db::Problems problems() const;
+  // The same as one line ("field: message; field: message"); empty when valid.
+  [[nodiscard]] std::string invalid_reason() const;
 };
 
 struct YarnFitResult {
@@ -143,6 +150,11 @@ struct YarnFitResult {
   double seconds_swarm = 0.0;
   double seconds_local = 0.0;
   double seconds_total = 0.0;
+  // The optimised parameters and their bounds (the search space of these scales).
+  std::vector<swarm::Parameter> bounds;
+  // What the simulations included: the yarn energies, and "co-rotation" when the bending
+  // check bent the tile (κ ≠ 0, the co-rotated periodic conditions of 3.2.2).
+  std::vector<std::string> effects;
 };
 
 // The optimised coordinates and their bounds for these scales.
@@ -153,15 +165,19 @@ yarn::YarnParams params_from_point(const Eigen::VectorXd& x, const yarn::Paramet
 Eigen::VectorXd point_from_params(const yarn::YarnParams& p, bool linear_stretch);
 
 // Runs the calibration. Throws std::invalid_argument for invalid settings or targets; a
-// calibration whose every candidate failed returns ok = false with the reason.
-YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<DirectionTargets>& targets,
+// calibration whose every candidate failed, or whose best parameters fail on re-evaluation,
+// returns ok = false with the reason, and then `final` holds no directions (no errors, no
+// curves: nothing that belongs to other parameters).
+YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings);
 
 // yarn_fit.json (SPEC §5): params {ks1, eps_s, kb, R1, kc1, ks2, kc2, R2}, errors
 // {stress_comfort_pct, stress_full_pct, compression_pct, bending_pct (null without bending
-// targets or when the check was skipped or failed)},
-// evaluations, timing_s, plus per-direction errors, on_bound, identifiability (the parameter
-// profile), settings and stage summaries.
+// targets or when the check was skipped or failed)} (all null, with errors_reason, when the
+// fit failed), evaluations, timing_s, effects, plus per-direction errors, the final curves
+// (`curves`, in direction order), on_bound, bounds {name: {lower, upper, log}},
+// identifiability (the parameter profile), settings (after a --resume the checkpoint's
+// particles and iterations) and stage summaries with their one-line reports.
 nlohmann::json to_json(const YarnFitResult& result, const YarnFitSettings& settings);
 
 }  // namespace yarnfit::calibration

@@ -4,10 +4,12 @@
 #include <cmath>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/terms/scene.hpp"
+#include "reports/metrics/error_metrics.hpp"
 
 namespace yarnfit::calibration {
 
-BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<DirectionTargets>& targets,
+BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                            const yarn::YarnParams& params, const ObjectiveOptions& options, int points) {
   const auto start = std::chrono::steady_clock::now();
   BendingCheck out;
@@ -29,7 +31,7 @@ BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<Directi
     const auto rest = relax_rest_shape(relaxed, g_rest, options.rest);
     if (!rest.converged) return finish("rest-shape heuristic did not converge: " + rest.last_solve.message);
   }
-  double sum = 0.0;
+  std::vector<double> per_direction;
   for (const auto& t : targets) {
     if (t.bending.size() < 2) continue;
     const std::string dname(db::to_string(t.direction));
@@ -41,12 +43,12 @@ BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<Directi
     chi.angle = db::pull_angle(t.direction);
     const yarn::BendingSample flat = yarn::simulate_bending(system, chi, g, 0.0, options.solve);
     out.solves += flat.centre.solves;
+    numerics::merge_effects(out.effects, flat.centre.effects);
     if (!flat.ok) return finish(dname + ": bending at κ = 0 failed: " + flat.message);
     e.curl_stress = flat.stress_kappa;
     const std::size_t m = t.bending.size();
     double largest = 0.0;
     for (const auto& b : t.bending) largest = std::max(largest, std::abs(b.stress));
-    double abs_sum = 0.0;
     for (int k = 0; k < points; ++k) {
       const std::size_t i = static_cast<std::size_t>(std::lround(static_cast<double>(k) * static_cast<double>(m - 1) / (points - 1)));
       chi.curvature = t.bending[i].curvature;
@@ -54,19 +56,19 @@ BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<Directi
       if (chi.curvature != 0.0) {
         const yarn::BendingSample bs = yarn::simulate_bending(system, chi, g, 0.0, options.solve);
         out.solves += bs.centre.solves;
+        numerics::merge_effects(out.effects, bs.centre.effects);
         if (!bs.ok) return finish(dname + ": bending at κ = " + db::format_g(chi.curvature) + " 1/m failed: " + bs.message);
         sigma = bs.stress_kappa;
       }
       e.curvature.push_back(chi.curvature);
       e.stress_sim.push_back(sigma - flat.stress_kappa);
       e.stress_target.push_back(t.bending[i].stress);
-      abs_sum += std::abs(e.stress_sim.back() - e.stress_target.back());
     }
-    e.error_pct = largest > 0.0 ? 100.0 * abs_sum / points / largest : 0.0;
-    sum += e.error_pct;
+    e.error_pct = reports::yarn_error_pct_normalised_after(e.stress_sim, e.stress_target, largest);
+    per_direction.push_back(e.error_pct);
     out.directions.push_back(std::move(e));
   }
-  out.bending_pct = sum / static_cast<double>(out.directions.size());
+  out.bending_pct = reports::mean_over_directions(per_direction);
   return finish({});
 }
 

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
 #include "fabrics_db/text_util.hpp"
+#include "reports/metrics/error_metrics.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 
 namespace yarnfit::calibration {
@@ -21,11 +23,11 @@ using Clock = std::chrono::steady_clock;
 double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
 
 // Target second Piola-Kirchhoff stress at s.
-double target_pk2(const std::vector<shell::UniaxialPoint>& pts, double s) {
-  return pk2(interpolate_target(pts, s, &shell::UniaxialPoint::stress), s);
+double target_pk2(const std::vector<db::UniaxialPoint>& pts, double s) {
+  return pk2(interpolate_target(pts, s, &db::UniaxialPoint::stress), s);
 }
 
-DirectionScale comfort_scale(const DirectionTargets& t, const ObjectiveOptions& o) {
+DirectionScale comfort_scale(const db::DirectionTargets& t, const ObjectiveOptions& o) {
   DirectionScale sc;
   sc.direction = t.direction;
   const auto& p = t.stretch;
@@ -41,7 +43,7 @@ DirectionScale comfort_scale(const DirectionTargets& t, const ObjectiveOptions& 
   }
   sc.comfort_value = target_pk2(p, sc.comfort_stretch);
   sc.stress_norm = sc.comfort_value;
-  double cmax = std::abs(interpolate_target(p, sc.comfort_stretch, &shell::UniaxialPoint::compression));
+  double cmax = std::abs(interpolate_target(p, sc.comfort_stretch, &db::UniaxialPoint::compression));
   for (const auto& q : p) {
     if (q.stretch > sc.comfort_stretch) break;
     sc.stress_norm = std::max(sc.stress_norm, pk2(q.stress, q.stretch));
@@ -53,13 +55,13 @@ DirectionScale comfort_scale(const DirectionTargets& t, const ObjectiveOptions& 
 
 }  // namespace
 
-double interpolate_target(const std::vector<shell::UniaxialPoint>& points, double s,
-                          double shell::UniaxialPoint::*field) {
+double interpolate_target(const std::vector<db::UniaxialPoint>& points, double s,
+                          double db::UniaxialPoint::*field) {
   if (points.empty()) return 0.0;
   if (s <= points.front().stretch) return points.front().*field;
   if (s >= points.back().stretch) return points.back().*field;
   const auto hi = std::upper_bound(points.begin(), points.end(), s,
-                                   [](double x, const shell::UniaxialPoint& q) { return x < q.stretch; });
+                                   [](double x, const db::UniaxialPoint& q) { return x < q.stretch; });
   const auto lo = hi - 1;
   const double f = (s - lo->stretch) / (hi->stretch - lo->stretch);
   return (1.0 - f) * ((*lo).*field) + f * ((*hi).*field);
@@ -75,7 +77,7 @@ std::string ObjectiveOptions::invalid_reason() const {
   return {};
 }
 
-YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<DirectionTargets> targets, ObjectiveOptions options)
+YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTargets> targets, ObjectiveOptions options)
     : m_tile(std::move(tile)), m_options(std::move(options)) {
   if (const auto why = m_options.invalid_reason(); !why.empty()) throw std::invalid_argument("objective: " + why);
   for (auto& t : targets) {
@@ -125,6 +127,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
   if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
 
   yarn::YarnSystem relaxed(m_tile, params);  // a copy of the tile per evaluation
+  out.effects = relaxed.effects();
   Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(relaxed.dof_count());
   if (m_options.rest_shape) {
     out.rest = relax_rest_shape(relaxed, g_rest, m_options.rest);
@@ -139,7 +142,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
   const int n = m_options.samples;
   const auto run_direction = [&](std::size_t d, yarn::YarnSystem& system, DirectionError& e, int& iterations,
                                  int& loose, bool& stopped) -> std::string {
-    const DirectionTargets& t = m_targets[d];
+    const db::DirectionTargets& t = m_targets[d];
     const std::string dname(db::to_string(t.direction));
     const double angle = db::pull_angle(t.direction);
     const double s0 = t.stretch.front().stretch, s1 = t.stretch.back().stretch;
@@ -151,22 +154,15 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
     };
     // Sample i's terms, added as soon as its c and σ are known. True once this direction's
     // partial sum reaches the cutoff: the terms are non-negative, so g does too.
-    double sum_sq = 0.0, abs_comfort = 0.0, abs_full = 0.0, abs_c = 0.0;
-    int n_comfort = 0;
+    double sum_sq = 0.0;
     const auto add_sample = [&](double s, double c, double sigma) {
       const double s_sim = pk2(sigma, s);
       const double s_tgt = target_pk2(t.stretch, s);
-      const double c_tgt = interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression);
+      const double c_tgt = interpolate_target(t.stretch, s, &db::UniaxialPoint::compression);
       const double w = e.scale.comfort_value / std::max(e.scale.comfort_value, s_tgt);
       const double ds = (s_sim - s_tgt) / e.scale.stress_norm;
       const double dc = (c - c_tgt) / e.scale.compression_norm;
       sum_sq += w * (ds * ds + dc * dc);
-      abs_full += std::abs(ds);
-      abs_c += std::abs(dc);
-      if (s <= e.scale.comfort_stretch + 1e-12) {
-        abs_comfort += std::abs(ds);
-        ++n_comfort;
-      }
       e.stretch.push_back(s);
       e.stress_sim.push_back(s_sim);
       e.stress_target.push_back(s_tgt);
@@ -176,12 +172,18 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
       stopped = sum_sq / n >= cutoff;
       return stopped;
     };
+    // The reported errors (SPEC §3, Fig. 6.15) over the samples run; the stretches increase,
+    // so the comfort range is a leading run of them.
     const auto finish_direction = [&]() -> std::string {
-      const auto run = static_cast<double>(e.stretch.size());
       e.value = sum_sq / n;
-      e.stress_full_pct = 100.0 * abs_full / run;
-      e.stress_comfort_pct = n_comfort > 0 ? 100.0 * abs_comfort / n_comfort : e.stress_full_pct;
-      e.compression_pct = 100.0 * abs_c / run;
+      std::size_t n_comfort = 0;
+      while (n_comfort < e.stretch.size() && e.stretch[n_comfort] <= e.scale.comfort_stretch + 1e-12) ++n_comfort;
+      const std::span<const double> sim(e.stress_sim), tgt(e.stress_target);
+      e.stress_full_pct = reports::yarn_error_pct(sim, tgt, e.scale.stress_norm);
+      e.stress_comfort_pct = n_comfort > 0
+                                 ? reports::yarn_error_pct(sim.first(n_comfort), tgt.first(n_comfort), e.scale.stress_norm)
+                                 : e.stress_full_pct;
+      e.compression_pct = reports::yarn_error_pct(e.compression_sim, e.compression_target, e.scale.compression_norm);
       return {};
     };
 
@@ -189,7 +191,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
     // there; later nodes at the march's) and accepts a c whose orthogonal stress is within
     // a small fraction of the stress norm (see ObjectiveOptions::compression_stress_fraction).
     Eigen::VectorXd g = g_rest;
-    const double c_tgt0 = interpolate_target(t.stretch, s0, &shell::UniaxialPoint::compression);
+    const double c_tgt0 = interpolate_target(t.stretch, s0, &db::UniaxialPoint::compression);
     yarn::CompressionOptions comp = m_options.compression;
     comp.stress_tolerance = m_options.compression_stress_fraction * e.scale.stress_norm;
     comp.initial_guess = c_tgt0;
@@ -201,7 +203,7 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
     if (!first.ok) return (dname + ": free compression at s = " + db::format_g(s0) + " failed: " + first.message);
     const double c0 = first.chi.compression;
     const auto stretch_at = [&](int i) { return s0 + (s1 - s0) * static_cast<double>(i) / (n - 1); };
-    const auto target_c = [&](double s) { return interpolate_target(t.stretch, s, &shell::UniaxialPoint::compression); };
+    const auto target_c = [&](double s) { return interpolate_target(t.stretch, s, &db::UniaxialPoint::compression); };
     if (m_options.free_compression_every_sample) {
       // c* at every sample, by continuation along s: each search starts from the previous
       // sample's equilibrium, at its c* moved by the targets' change of c, with a first

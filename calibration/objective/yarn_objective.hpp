@@ -34,16 +34,16 @@
 // in two runs with different histories, and the swarm's cutoff, its resume and the local
 // step all rely on g being a function of p.
 //
-// Reported errors (SPEC §3 "Error metrics", Fig. 6.15): mean absolute error divided by the
-// largest comfort-range target, in percent: stress over the comfort-range samples, stress
-// over all samples, compression over all samples.
+// Reported errors (SPEC §3 "Error metrics", Fig. 6.15; reports::yarn_error_pct): mean
+// absolute error divided by the largest comfort-range target, in percent: stress over the
+// comfort-range samples, stress over all samples, compression over all samples.
 
 #include <Eigen/Core>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "calibration/targets/uniform_targets_reader.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/homogenise/rest_shape.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
@@ -117,6 +117,7 @@ struct ObjectiveResult {
   bool lower_bound = false;
   std::vector<DirectionError> directions;
   yarn::RestShapeResult rest;
+  std::vector<std::string> effects;  // the terms the tile's scenes assembled
   int solves = 0;
   int loose_solves = 0;  // solves accepted as converged_loosely (see ObjectiveOptions::solve)
   int newton_iterations = 0;
@@ -127,7 +128,7 @@ class YarnObjective {
  public:
   // Throws std::invalid_argument for invalid options, no stretch targets, or a direction
   // whose comfort-range stress is not positive.
-  YarnObjective(yarn::YarnTile tile, std::vector<DirectionTargets> targets, ObjectiveOptions options = {});
+  YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTargets> targets, ObjectiveOptions options = {});
 
   // Never throws for numerical trouble: a failed simulation gives ok = false, value = +inf.
   // Safe to call concurrently (each call works on its own copy of the tile).
@@ -149,7 +150,7 @@ class YarnObjective {
 
  private:
   yarn::YarnTile m_tile;
-  std::vector<DirectionTargets> m_targets;  // directions with stretch targets only
+  std::vector<db::DirectionTargets> m_targets;  // directions with stretch targets only
   std::vector<DirectionScale> m_scales;
   ObjectiveOptions m_options;
 };
@@ -167,6 +168,6 @@ WeightedErrors weighted_errors(const ObjectiveResult& result);
 Eigen::VectorXd residual_vector(const ObjectiveResult& result);
 
 // Linear interpolation of the targets' (stretch → value) at s, clamped to the ends.
-double interpolate_target(const std::vector<shell::UniaxialPoint>& points, double s, double shell::UniaxialPoint::*field);
+double interpolate_target(const std::vector<db::UniaxialPoint>& points, double s, double db::UniaxialPoint::*field);
 
 }  // namespace yarnfit::calibration

@@ -39,7 +39,7 @@ SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const ya
   for (const db::Direction dir : options.directions) {
     Eigen::VectorXd g = g_rest;
     const yarn::StretchSweep sweep = yarn::sweep_stretch(system, db::pull_angle(dir), stretches, g);
-    shell::DirectionTargets t;
+    db::DirectionTargets t;
     t.direction = dir;
     for (const auto& p : sweep.points) {
       if (!p.ok) {
@@ -80,7 +80,7 @@ std::string fabric_yaml(const yarn::YarnParams& p, const SyntheticYarnOptions& o
   return y.str();
 }
 
-std::string stretch_csv(const shell::DirectionTargets& t, double width) {
+std::string stretch_csv(const db::DirectionTargets& t, double width) {
   std::ostringstream c;
   c << "# uniform " << db::to_string(t.direction) << " response of the yarn tile (yarnfit synth yarn)\n"
     << "stretch,force_N,compression\n";
@@ -104,7 +104,7 @@ SyntheticYarnResult write_synthetic_yarn_fabric(const db::PeriodicTile& tile, co
   }
   SyntheticYarnResult r = simulate_yarn_targets(tile, params, options);
   fs::create_directories(folder);
-  shell::write_uniform_targets_csv(r.targets, out / "uniform_targets.csv");
+  db::write_uniform_targets_csv(r.targets, out / "uniform_targets.csv");
   db::write_pyp(tile, folder / "tile.pyp", 17);
   for (const auto& t : r.targets) {
     db::write_text_file_atomically(folder / ("stretch_" + std::string(db::to_string(t.direction)) + ".csv"),

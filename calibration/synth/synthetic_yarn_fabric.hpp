@@ -5,7 +5,7 @@
 // The tile first goes through the rest-shape heuristic (6.5.2) with the true parameters, the
 // same step the calibration applies to every candidate; then per direction a free-compression
 // stretch sweep (yarn_fit/scenes/stretch_sweep.hpp, c*(s) solved at every point) over
-// `points` stretches evenly in [0, max_stretch]. The targets are written with shell_fit's
+// `points` stretches evenly in [0, max_stretch]. The targets are written with fabrics_db's
 // writer (uniform_targets.csv). The fabric record holds the tile, one yarn whose stiffness_N is
 // ks2, the parameters under ground_truth, and per direction a stretch test on the default
 // 10 × 6 cm swatch whose clamp force is the uniform line stress times the width (σ_s · 0.06 m)
@@ -17,7 +17,7 @@
 
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
-#include "shell_fit/targets/uniform_targets.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
 #include "yarn_fit/homogenise/rest_shape.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
 
@@ -35,7 +35,7 @@ struct SyntheticYarnOptions {
 };
 
 struct SyntheticYarnResult {
-  std::vector<shell::DirectionTargets> targets;
+  std::vector<db::DirectionTargets> targets;
   yarn::RestShapeResult rest;
   double seconds = 0.0;
 };

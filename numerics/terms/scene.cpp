@@ -21,6 +21,11 @@ std::vector<std::string> term_names(const TermList& terms) {
   return names;
 }
 
+void merge_effects(std::vector<std::string>& effects, const std::vector<std::string>& more) {
+  for (const std::string& name : more)
+    if (std::find(effects.begin(), effects.end(), name) == effects.end()) effects.push_back(name);
+}
+
 double total_energy(const TermList& terms, const Eigen::VectorXd& x) {
   double e = 0.0;
   for (const EnergyTerm* term : terms) {

@@ -19,6 +19,9 @@ void check_terms(const TermList& terms, const char* who);
 
 // Names of the terms, in order: the effects a scene simulated.
 [[nodiscard]] std::vector<std::string> term_names(const TermList& terms);
+// Adds to `effects` the names in `more` it does not hold yet, in their order (the effects of a
+// result made of several scenes).
+void merge_effects(std::vector<std::string>& effects, const std::vector<std::string>& more);
 
 // Sum of the terms at x: +inf if any term is infinite, NaN as soon as one is NaN (a broken
 // contract that +inf must not hide).

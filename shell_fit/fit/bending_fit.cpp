@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include "reports/metrics/error_metrics.hpp"
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
 
@@ -83,6 +84,7 @@ void tie_unmeasured(BendingParams& p, const std::array<bool, 3>& measured) {
 struct Guess {
   BendingParams params;
   std::array<bool, 3> measured{false, false, false};
+  std::vector<std::string> fallbacks;  // BendingFitResult::fallback_starts
 };
 
 Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, const BendingFitOptions& options,
@@ -100,7 +102,7 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
     const double d = t.clamp_distance[mid], r_target = t.measured_aspect_ratio[mid];
     const double L = test.swatch.length;
     const auto [ell_min, ell_max] = length_bounds(test, inplane, rho, g);
-    if (progress) progress->set_stage("bending start (" + std::string(db::to_string(dir)) + ")");
+    if (progress) progress->set_stage("bending start (" + std::string(db::to_string(dir)) + ")", 0, "trial");
     int trial = 0;
     // r at bending length ℓ, or NaN when the loop did not reach equilibrium.
     const auto r_at = [&](double ell) {
@@ -129,6 +131,10 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
       }
       r = r_at(ell);
     }
+    // The search stopped on a trial that did not reach equilibrium, before a bracket closed:
+    // the start below is then a fallback, not the data's.
+    const bool search_failed = !std::isfinite(r) && !(std::isfinite(r_lo) && std::isfinite(r_hi));
+    const double ell_failed = ell;
     double ell_start = ell;
     if (std::isfinite(r_lo) && std::isfinite(r_hi)) {
       // Bisection in log ℓ to a factor 2^(1/16) (13 % in k_θ), then linear in log ℓ.
@@ -152,6 +158,12 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
       ell_start = ell_min;  // r stays below the data even for the softest strip
     }
     out.params.ktheta[idx(slot)] = ktheta_for_bending_length(ell_start, rho, g);
+    if (search_failed) {
+      out.fallbacks.push_back(std::string(db::to_string(dir)) + " test (" + k_bending_names[slot] +
+                              "): start search failed, the pear loop did not reach equilibrium at bending length " +
+                              format_number(ell_failed * 1e3) + " mm; started from " +
+                              format_number(ell_start * 1e3) + " mm instead of the data's match");
+    }
   }
   tie_unmeasured(out.params, out.measured);
   return out;
@@ -198,6 +210,7 @@ class LoopResiduals : public ceres::CostFunction {
     int r = 0;
     for (std::size_t k = 0; k < m_data.size(); ++k) {
       if (!m_runs[k].ok) return false;  // Ceres shrinks its step and tries again
+      m_effects = m_runs[k].effects;
       auto& d = m_data[k];
       d.simulated_aspect_ratio.clear();
       d.max_curvature = 0.0;
@@ -222,6 +235,8 @@ class LoopResiduals : public ceres::CostFunction {
   }
 
   [[nodiscard]] const std::vector<PearLoopRun>& last_runs() const { return m_runs; }
+  // The effects the scenes' last successful runs simulated (empty before any).
+  [[nodiscard]] const std::vector<std::string>& effects() const { return m_effects; }
 
  private:
   const std::vector<PearLoopScene>& m_scenes;
@@ -232,6 +247,7 @@ class LoopResiduals : public ceres::CostFunction {
   int m_threads;
   int& m_simulations;
   mutable std::vector<PearLoopRun> m_runs;
+  mutable std::vector<std::string> m_effects;
 };
 
 
@@ -286,6 +302,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   };
   if (fabric.bending_tests.empty()) {
     result.message = "the fabric has no bending test: k_theta not fitted";
+    result.errors_reason = result.message;
     for (const char* name : k_bending_names) result.not_identified.push_back(std::string(name) + ": no bending test");
     return finish();
   }
@@ -303,6 +320,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   for (const auto& d : result.directions) {
     if (d.clamp_distance.empty()) {
       result.message = "bending test " + std::string(db::to_string(d.direction)) + " has no points";
+      result.errors_reason = result.message;
       return finish();
     }
   }
@@ -321,6 +339,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   quiet_solver_warnings();
   const Guess guess = guess_from_data(fabric, inplane, options, &progress);
   result.start = guess.params;
+  result.fallback_starts = guess.fallbacks;
   std::vector<int> free, held;
   for (int j = 0; j < 3; ++j) (measured[idx(j)] ? free : held).push_back(j);
   for (int j : free) result.identified.push_back(k_bending_names[j]);
@@ -355,7 +374,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   std::string stage = "bending (";
   for (std::size_t k = 0; k < result.directions.size(); ++k)
     stage += (k ? ", " : "") + std::string(db::to_string(result.directions[k].direction));
-  progress.set_stage(stage + ")");
+  progress.set_stage(stage + ")", options.max_iterations);
   const ceres::Solver::Options so = least_squares_options(options.max_iterations, 1e-7, 1e-6, &progress);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
@@ -393,15 +412,16 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     }
   }
 
-  // mean |error| / mean |measured| = Σ |error| / Σ |measured|.
-  double err = 0.0, meas = 0.0;
-  for (const auto& d : result.directions) {
-    for (std::size_t i = 0; i < d.clamp_distance.size() && i < d.simulated_aspect_ratio.size(); ++i) {
-      err += std::abs(d.simulated_aspect_ratio[i] - d.measured_aspect_ratio[i]);
-      meas += std::abs(d.measured_aspect_ratio[i]);
-    }
+  if (final_ok) {
+    result.effects = cost->effects();
+    reports::ShellErrorSum error;
+    for (const auto& d : result.directions) error.add(d.measured_aspect_ratio, d.simulated_aspect_ratio);
+    result.bending_pct = error.pct();
+  } else {
+    // The curves belong to the last point that simulated (some directions may be older still).
+    for (auto& d : result.directions) d.simulated_aspect_ratio.clear();
+    result.errors_reason = result.message;
   }
-  result.bending_pct = meas > 0.0 ? 100.0 * err / meas : 0.0;
   return finish();
 }
 

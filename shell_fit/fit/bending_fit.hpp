@@ -22,15 +22,19 @@
 // the top capped where the strip stops being thin against its membrane (B ≤ 1e-4 E L²,
 // E = min(kxx, kyy)). A measured r below the elastica's (no k_θ can reach it: about 2.0 at
 // d = 3 mm and 1.15 at 34 mm for L = 10 cm) ends on the upper bound, reported in at_bounds.
+// When a trial of that search does not reach equilibrium before the bracket closes, the start
+// is not the data's: the test starts from the last bending length tried (or the search bound
+// it was heading for), and fallback_starts says so.
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "fabrics_db/records/fabric.hpp"
 #include "shell_fit/core/shell_params.hpp"
-#include "shell_fit/fit/fit_progress.hpp"
+#include "reports/progress.hpp"
 #include "shell_fit/scenes/pear_loop.hpp"
 
 namespace yarnfit::shell {
@@ -47,7 +51,7 @@ struct BendingFitOptions {
   int threads = 1;              // directions simulated in parallel
   double gravity = 9.81;        // [m/s²]
   // Called after every iteration and every trial of the start search.
-  FitProgressFn progress;
+  reports::ProgressFn progress;
 };
 
 struct BendingDirectionFit {
@@ -55,7 +59,7 @@ struct BendingDirectionFit {
   int parameter = 0;                          // index of the k_θ this test measures
   std::vector<double> clamp_distance;         // targets d_i [m]
   std::vector<double> measured_aspect_ratio;  // r_i interpolated at d_i
-  std::vector<double> simulated_aspect_ratio;
+  std::vector<double> simulated_aspect_ratio;  // at the fitted k_θ; empty when the final evaluation failed
   double max_curvature = 0.0;                 // largest |κ| in the final loops [1/m]
 };
 
@@ -67,7 +71,13 @@ struct BendingFitResult {
   std::vector<std::string> identified;
   std::vector<std::string> not_identified;  // "ktheta_bias: no bias bending test (…)"
   std::vector<BendingDirectionFit> directions;
-  double bending_pct = 0.0;  // mean |r_sim − r_meas| / mean |r_meas| over all targets [%]
+  // The shell metric (reports/metrics/error_metrics.hpp) of the aspect ratio over all
+  // targets [%]; NaN when the final evaluation failed or nothing was fitted (errors_reason).
+  double bending_pct = std::numeric_limits<double>::quiet_NaN();
+  std::string errors_reason;  // why there is no bending_pct (empty when there is)
+  // Tests whose start did not come from the data because a trial of the start search failed:
+  // "weft test (ktheta_weft): ..." with the bending length it started from instead.
+  std::vector<std::string> fallback_starts;
   int iterations = 0;
   int simulations = 0;       // pear-loop runs (each over one test's distances)
   double seconds = 0.0;
@@ -75,7 +85,8 @@ struct BendingFitResult {
   // Largest curvature per k_θ slot (weft, bias, warp) in the final loops; absent for slots no
   // test measures. Feeds TargetRanges::max_curvature of the uniform targets.
   std::optional<double> max_curvature[3];
-  std::vector<std::string> effects{"membrane", "bending", "gravity"};
+  // What the pear-loop scenes simulated (the names their runs report).
+  std::vector<std::string> effects = PearLoopRun{}.effects;
 };
 
 // The 7 targets of one test: d evenly over [3, 34] mm ∩ the measured range (the whole

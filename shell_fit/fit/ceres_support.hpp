@@ -14,25 +14,38 @@
 #include <string>
 #include <utility>
 
-#include "shell_fit/fit/fit_progress.hpp"
+#include "reports/progress.hpp"
 
 namespace yarnfit::shell {
 
-// Forwards Ceres iterations as FitProgress: the stage's name, the iteration, the best error
-// so far (error_of(cost) over this and earlier stages) and the seconds since `start`.
+// Forwards Ceres iterations as progress events: the stage's name, the iteration and the
+// stage's iteration budget, the best error so far (error_of(cost) over this and earlier
+// stages: the root-mean-square residual in percent of the mean measured value) and the
+// seconds since `start`.
 class ProgressCallback : public ceres::IterationCallback {
  public:
-  ProgressCallback(FitProgressFn fn, std::chrono::steady_clock::time_point start, std::function<double(double)> error_of)
+  ProgressCallback(reports::ProgressFn fn, std::chrono::steady_clock::time_point start,
+                   std::function<double(double)> error_of)
       : m_fn(std::move(fn)), m_start(start), m_error_of(std::move(error_of)) {}
-  void set_stage(std::string stage) { m_stage = std::move(stage); }
+  // A new stage: its name, its budget of iterations (0: unknown) and what a step is.
+  void set_stage(std::string stage, int steps = 0, std::string step_name = "iteration") {
+    m_stage = std::move(stage);
+    m_steps = steps;
+    m_step_name = std::move(step_name);
+  }
   // Reports a step that is not a Ceres iteration (a start search's trial).
   void report(int iteration, double cost) {
     if (std::isfinite(cost)) m_best = std::min(m_best, m_error_of(cost));
     if (!m_fn) return;
-    FitProgress p;
+    reports::Progress p;
     p.stage = m_stage;
-    p.iteration = iteration;
-    p.best_error_pct = std::isfinite(m_best) ? m_best : std::numeric_limits<double>::quiet_NaN();
+    p.step_name = m_step_name;
+    p.step = iteration;
+    p.steps = m_steps;
+    p.budget = m_steps > 0;  // Ceres may converge before its iteration limit
+    p.best = std::isfinite(m_best) ? m_best : std::numeric_limits<double>::quiet_NaN();
+    p.best_label = "rms error";
+    p.best_unit = "%";
     p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
     m_fn(p);
   }
@@ -43,10 +56,12 @@ class ProgressCallback : public ceres::IterationCallback {
   [[nodiscard]] bool active() const { return static_cast<bool>(m_fn); }
 
  private:
-  FitProgressFn m_fn;
+  reports::ProgressFn m_fn;
   std::chrono::steady_clock::time_point m_start;
   std::function<double(double)> m_error_of;
   std::string m_stage;
+  int m_steps = 0;
+  std::string m_step_name = "iteration";
   double m_best = std::numeric_limits<double>::infinity();
 };
 

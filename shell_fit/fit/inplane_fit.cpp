@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "reports/metrics/error_metrics.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 
 namespace yarnfit::shell {
@@ -215,6 +216,9 @@ class StretchResiduals : public ceres::CostFunction {
   // Before a new Ceres run: forgets the failures (the cache and the warm starts stay valid).
   void new_run() const { m_failures_in_a_row = 0; }
 
+  // The effects the scenes' last successful runs simulated (empty before any).
+  [[nodiscard]] const std::vector<std::string>& effects() const { return m_effects; }
+
  private:
   bool simulate(const std::vector<double>& q) const {
     const Vec6 p = params_from(q.data());
@@ -236,6 +240,7 @@ class StretchResiduals : public ceres::CostFunction {
         return false;
       }
     }
+    if (!runs.empty()) m_effects = runs.front().effects;
     for (std::size_t k = 0; k < m_data.size(); ++k) {
       auto& d = m_data[k];
       d.simulated_force.clear();
@@ -277,6 +282,7 @@ class StretchResiduals : public ceres::CostFunction {
   mutable bool m_cached = false, m_cached_ok = false;
   mutable int m_failures_in_a_row = 0;
   mutable std::vector<double> m_cached_q, m_res, m_jac;
+  mutable std::vector<std::string> m_effects;
 };
 
 
@@ -285,8 +291,6 @@ class StretchResiduals : public ceres::CostFunction {
 namespace {
 // Restarts of a Ceres run that stalled on failed trial points (see solve below).
 constexpr int k_max_restarts = 3;
-// A run needs ~5–10 Newton iterations per target; 25 per target is a trial point in trouble.
-constexpr int k_newton_budget_per_target = 25;
 }  // namespace
 
 InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& options) {
@@ -294,6 +298,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   InplaneFitResult result;
   if (fabric.stretch_tests.empty()) {
     result.message = "the fabric has no stretch test";
+    result.errors_reason = result.message;
     return result;
   }
   const bool has[3] = {fabric.stretch_tests.count(db::Direction::weft) > 0,
@@ -339,7 +344,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   std::vector<ClampedStretchScene> scenes;
   for (const auto& [dir, t] : fabric.stretch_tests) {
     ClampedStretchSetup setup = stretch_setup(t, options.target_edge, options.refinements);
-    setup.max_newton_iterations = k_newton_budget_per_target * k_stretch_targets_per_direction;
+    setup.max_newton_iterations = options.newton_budget_per_target * k_stretch_targets_per_direction;
     scenes.emplace_back(setup);
     result.directions.push_back(make_direction_targets(t, options.max_line_force));
   }
@@ -408,7 +413,8 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < result.starts.size(); ++k) {
       auto& st = result.starts[k];
-      progress.set_stage(stage + " start " + std::to_string(k + 1) + "/" + std::to_string(result.starts.size()));
+      progress.set_stage(stage + " start " + std::to_string(k + 1) + "/" + std::to_string(result.starts.size()),
+                         options.start_iterations);
       std::vector<double> qk = start_q(st.params);
       solve(*costs[k], qk, options.start_iterations, summary);
       st.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
@@ -424,7 +430,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   }
   result.chosen_start = static_cast<int>(chosen);
   StretchResiduals* cost = costs[chosen].get();
-  progress.set_stage(stage);
+  progress.set_stage(stage, options.max_iterations);
   solve(*cost, q, options.max_iterations, summary);
 
   // Re-evaluate at the solution so the reported curves belong to the final parameters.
@@ -455,19 +461,23 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
       result.at_bounds.push_back(k_inplane_names[free[static_cast<std::size_t>(j)]]);
   }
 
-  double ferr = 0, fmeas = 0, cerr = 0, cmeas = 0;
-  for (const auto& d : result.directions) {
-    for (std::size_t i = 0; i < d.stretch.size() && i < d.simulated_force.size(); ++i) {
-      ferr += std::abs(d.simulated_force[i] - d.measured_force[i]);
-      fmeas += std::abs(d.measured_force[i]);
-      if (!d.measured_compression.empty()) {
-        cerr += std::abs(d.simulated_compression[i] - d.measured_compression[i]);
-        cmeas += std::abs(d.measured_compression[i]);
-      }
+  if (final_ok) {
+    result.effects = cost->effects();
+    reports::ShellErrorSum force, compression;
+    for (const auto& d : result.directions) {
+      force.add(d.measured_force, d.simulated_force);
+      if (!d.measured_compression.empty()) compression.add(d.measured_compression, d.simulated_compression);
     }
+    result.stretch_force_pct = force.pct();
+    result.compression_pct = compression.pct();  // NaN when not measured
+  } else {
+    // The curves belong to the last point that simulated, not to these parameters.
+    for (auto& d : result.directions) {
+      d.simulated_force.clear();
+      d.simulated_compression.clear();
+    }
+    result.errors_reason = result.message;
   }
-  result.stretch_force_pct = fmeas > 0 ? 100.0 * ferr / fmeas : 0.0;
-  result.compression_pct = cmeas > 0 ? 100.0 * cerr / cmeas : 0.0;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;
 }

@@ -28,8 +28,8 @@
 
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/records/fabric_summary.hpp"
+#include "reports/progress.hpp"
 #include "shell_fit/core/shell_params.hpp"
-#include "shell_fit/fit/fit_progress.hpp"
 #include "shell_fit/scenes/clamped_stretch.hpp"
 
 namespace yarnfit::shell {
@@ -52,12 +52,16 @@ struct InplaneFitOptions {
   // the balanced start.
   int start_iterations = 8;
   int threads = 1;            // directions simulated in parallel
+  // Newton iterations a scene may spend per target in one evaluation before the evaluation
+  // counts as failed (ClampedStretchSetup::max_newton_iterations): a run needs about 5–10 per
+  // target, so 25 marks a trial point in trouble, and failing fast lets Ceres step back.
+  int newton_budget_per_target = 25;
   // Ceres' first trust region (Levenberg–Marquardt: the inverse of the damping relative to
   // JᵀJ's diagonal). Ceres' default, 1e4, makes the first steps nearly Gauss–Newton, which on
   // real data jump by orders of magnitude in log space to trial points where the scenes
   // cannot reach equilibrium.
   double initial_trust_region_radius = 1.0;
-  FitProgressFn progress;     // called after every iteration
+  reports::ProgressFn progress;  // called after every iteration
 };
 
 struct DirectionFit {
@@ -67,7 +71,7 @@ struct DirectionFit {
   std::vector<double> stretch;             // targets (measured stretch)
   std::vector<double> measured_force;      // [N]
   std::vector<double> measured_compression;  // empty when not measured
-  std::vector<double> simulated_force;
+  std::vector<double> simulated_force;       // at the fitted parameters; empty when the final evaluation failed
   std::vector<double> simulated_compression;
 };
 
@@ -91,9 +95,12 @@ struct InplaneFitResult {
   std::vector<std::string> identified;
   std::vector<std::string> not_identified;  // "kss: no bias test (prior …)"
   std::vector<DirectionFit> directions;
-  double stretch_force_pct = 0.0;  // mean |error| / mean |measured| over all targets [%]
-  double compression_pct = 0.0;    // same for compression; NaN-free: 0 when not measured
+  // The shell metric (reports/metrics/error_metrics.hpp) over all targets [%]: NaN when the
+  // final evaluation failed (errors_reason says why), and compression NaN when not measured.
+  double stretch_force_pct = std::numeric_limits<double>::quiet_NaN();
+  double compression_pct = std::numeric_limits<double>::quiet_NaN();
   bool compression_measured = false;
+  std::string errors_reason;        // why there are no errors (empty when there are)
   int iterations = 0;               // Ceres iterations over all starts and the final run
   int restarts = 0;                 // Ceres runs restarted after stalling on failed trial points
   int simulations = 0;
@@ -106,6 +113,8 @@ struct InplaneFitResult {
   // Fitted, but above k_weak_identification_pct: the data constrain them only loosely, and
   // small model or mesh differences move them by several percent.
   std::vector<std::string> weakly_identified;
+  // What the clamped-stretch scenes simulated (the names their runs report).
+  std::vector<std::string> effects = ClampedStretchRun{}.effects;
 };
 
 // A parameter whose sensitivity exceeds this (percent change per 1 % data noise) is reported

@@ -1,5 +1,7 @@
 #include "shell_fit/fit/shell_fit_report.hpp"
 
+#include "reports/metrics/error_metrics.hpp"
+
 namespace yarnfit::shell {
 
 namespace {
@@ -35,8 +37,16 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
           {"starts", starts},
           {"chosen_start", fit.chosen_start},
           {"errors",
-           {{"stretch_force_pct", fit.stretch_force_pct},
-            {"compression_pct", fit.compression_measured ? nlohmann::json(fit.compression_pct) : nlohmann::json(nullptr)}}},
+           {{"stretch_force_pct", reports::pct_json(fit.stretch_force_pct)},
+            {"compression_pct", fit.compression_measured ? reports::pct_json(fit.compression_pct) : nlohmann::json(nullptr)}}},
+          {"errors_reason", fit.errors_reason.empty() ? nlohmann::json() : nlohmann::json(fit.errors_reason)},
+          // The in-plane fit's own lists and time (the top-level ones also hold the bending fit's).
+          {"inplane",
+           {{"timing_s", fit.seconds},
+            {"not_identified", fit.not_identified},
+            {"at_bounds", fit.at_bounds},
+            {"compression_measured", fit.compression_measured},
+            {"errors_reason", fit.errors_reason.empty() ? nlohmann::json() : nlohmann::json(fit.errors_reason)}}},
           {"identified", fit.identified},
           {"not_identified", fit.not_identified},
           {"at_bounds", fit.at_bounds},

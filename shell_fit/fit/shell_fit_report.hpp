@@ -1,6 +1,9 @@
 #pragma once
-// shell_fit.json (SPEC §5): params, errors, identified, effects, timing_s — plus the details
-// an engineer needs to trust the numbers (start values, per-direction curves, termination).
+// The in-plane part of shell_fit.json (SPEC §5): params, errors, identified, timing_s — plus
+// the details an engineer needs to trust the numbers (start values, per-direction curves,
+// termination). Errors are null, never 0, when the final evaluation failed (`errors_reason`
+// says why). The whole file, with the bending fit and effects, is to_json(ShellFitResult)
+// (shell_fit/fit/shell_fit.hpp).
 
 #include <nlohmann/json.hpp>
 

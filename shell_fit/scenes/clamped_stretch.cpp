@@ -111,7 +111,8 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
   const auto start = std::chrono::steady_clock::now();
   ClampedStretchRun out;
   const MembraneTerm membrane(m_mesh, params, k_dim);
-  const std::vector<const EnergyTerm*> terms{&membrane};
+  const TermList terms{&membrane};
+  out.effects = numerics::term_names(terms);
   const int n = k_dim * m_mesh.vertex_count();
 
   Eigen::VectorXd x(n);

@@ -73,7 +73,7 @@ struct ClampedStretchRun {
   int newton_solves = 0;
   int newton_iterations = 0;
   double seconds = 0.0;
-  std::vector<std::string> effects{"membrane"};
+  std::vector<std::string> effects;  // the terms the scene assembled (its term list)
 };
 
 // Equilibria of earlier runs by target; filled and updated by ClampedStretchScene::run.

@@ -219,7 +219,8 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
   const MembraneTerm membrane(m_mesh, params.inplane, k_dim);
   const BendingTerm bending(m_mesh, params.bending);
   const GravityTerm gravity(m_mesh, m_setup.areal_density, m_setup.gravity);
-  const std::vector<const EnergyTerm*> terms{&membrane, &bending, &gravity};
+  const TermList terms{&membrane, &bending, &gravity};
+  out.effects = numerics::term_names(terms);
   const int n = k_dim * m_mesh.vertex_count();
 
   NewtonOptions options;

@@ -111,7 +111,7 @@ struct PearLoopRun {
   int newton_solves = 0;
   int newton_iterations = 0;
   double seconds = 0.0;
-  std::vector<std::string> effects{"membrane", "bending", "gravity"};
+  std::vector<std::string> effects;  // the terms the scene assembled (its term list)
 };
 
 // Equilibria of earlier runs, reused as starting states when the same distances are solved

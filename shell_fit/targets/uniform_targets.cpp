@@ -1,9 +1,7 @@
 #include "shell_fit/targets/uniform_targets.hpp"
 
 #include <cmath>
-#include <sstream>
 
-#include "fabrics_db/text_util.hpp"
 #include "shell_fit/energies/inplane_material.hpp"
 
 namespace yarnfit::shell {
@@ -142,24 +140,6 @@ std::vector<DirectionTargets> generate_uniform_targets(const ShellParams& params
     if (!t.stretch.empty() || !t.bending.empty()) all.push_back(std::move(t));
   }
   return all;
-}
-
-void write_uniform_targets_csv(const std::vector<DirectionTargets>& targets,
-                               const std::filesystem::path& file) {
-  using db::format_g;
-  std::ostringstream out;
-  out << "direction,kind,stretch,compression,stress_s_N_per_m,curvature_per_m,stress_kappa_N\n";
-  for (const auto& t : targets) {
-    const std::string dir(db::to_string(t.direction));
-    for (const auto& p : t.stretch) {
-      out << dir << ",stretch," << format_g(p.stretch, 10) << "," << format_g(p.compression, 10)
-          << "," << format_g(p.stress, 10) << ",,\n";
-    }
-    for (const auto& b : t.bending) {
-      out << dir << ",bending,,,," << format_g(b.curvature, 10) << "," << format_g(b.stress, 10) << "\n";
-    }
-  }
-  db::write_text_file_atomically(file, out.str());
 }
 
 }  // namespace yarnfit::shell

@@ -28,7 +28,7 @@ TEST(BendingCheck, ZeroAgainstItsOwnResponseAndTheStatedErrorAgainstTwiceIt) {
   options.solve.loose_tolerance = 3e-5;
 
   // No bending targets: nothing to check, and that is not a failure.
-  std::vector<DirectionTargets> targets(1);
+  std::vector<db::DirectionTargets> targets(1);
   targets[0].direction = db::Direction::warp;
   targets[0].stretch = {{0.0, 0.0, 0.0, true}, {0.1, 0.02, 5.0, true}};
   const BendingCheck none = check_bending(ytile, targets, params, options);
@@ -56,7 +56,7 @@ TEST(BendingCheck, ZeroAgainstItsOwnResponseAndTheStatedErrorAgainstTwiceIt) {
     mean_abs += std::abs(d.stress_sim[k]) / 4.0;
     largest = std::max(largest, std::abs(d.stress_sim[k]));
   }
-  std::vector<DirectionTargets> same = targets, twice = targets;
+  std::vector<db::DirectionTargets> same = targets, twice = targets;
   same[0].bending.clear();
   twice[0].bending.clear();
   for (std::size_t k = 0; k < 4; ++k) {

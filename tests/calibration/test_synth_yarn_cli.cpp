@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "calibration/targets/uniform_targets_reader.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
@@ -27,7 +27,7 @@ TEST(SynthYarnCli, WritesTargetsAndAValidRecord) {
   const auto r = run_cli("synth yarn --pattern " + quoted(pattern) + " --params " + quoted(dir / "y.yaml") +
                          " --out " + quoted(out) + " --max-stretch 0.1 --directions weft --points 3");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto targets = read_uniform_targets(out / "uniform_targets.csv");
+  const auto targets = db::read_uniform_targets(out / "uniform_targets.csv");
   ASSERT_EQ(targets.size(), 1u);
   ASSERT_EQ(targets[0].stretch.size(), 3u);
   EXPECT_DOUBLE_EQ(targets[0].stretch[2].stretch, 0.1);

@@ -47,7 +47,45 @@ TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
     const nlohmann::json j = to_json(r, s);
     EXPECT_FALSE(j["ok"].get<bool>());
     EXPECT_TRUE(j["objective"].is_null());
+    // No final evaluation: no errors (null, never 0 or a partial direction's) and the reason.
+    EXPECT_TRUE(r.final.directions.empty());
+    for (const char* k : {"stress_comfort_pct", "stress_full_pct", "compression_pct", "bending_pct"})
+      EXPECT_TRUE(j["errors"][k].is_null()) << k << " " << j["errors"];
+    ASSERT_TRUE(j["errors_reason"].is_string());
+    EXPECT_EQ(j["errors_reason"], r.message);
+    EXPECT_TRUE(j["curves"].empty());
+    EXPECT_TRUE(j["errors_by_direction"].empty());
   }
+}
+
+TEST(YarnFitSettings, EveryInvalidFieldIsNamed) {
+  YarnFitSettings s;
+  EXPECT_TRUE(s.problems().empty());
+  EXPECT_TRUE(s.invalid_reason().empty());
+  s.particles = 1;
+  s.swarm_samples = 1;
+  s.local_compression_nodes = 1;
+  s.threads = -1;
+  s.resume = true;  // without a checkpoint
+  const auto problems = s.problems();
+  std::vector<std::string> fields;
+  for (const auto& p : problems.items()) fields.push_back(p.field);
+  EXPECT_EQ(fields, (std::vector<std::string>{"particles", "swarm_samples", "local_compression_nodes", "threads", "resume"}))
+      << problems.to_string();
+  EXPECT_EQ(problems.items()[0].to_string(), "particles: must be at least 2 (got 1)");
+  EXPECT_EQ(s.invalid_reason().find("particles: must be at least 2 (got 1); swarm_samples:"), 0u) << s.invalid_reason();
+  // Without the swarm its settings do not matter.
+  s.swarm = false;
+  s.resume = false;
+  s.threads = 0;
+  s.swarm_samples = 2;
+  s.local_compression_nodes = 0;
+  EXPECT_TRUE(s.problems().empty()) << s.problems().to_string();
+  EXPECT_THROW((void)fit_yarn_params(yarn::YarnTile{}, {}, {1.0, 1.0}, [] {
+    YarnFitSettings bad;
+    bad.local_samples = 1;
+    return bad;
+  }()), std::invalid_argument);
 }
 
 // Two ways to run the same fit: every swarm candidate simulated in full, or stopped once it

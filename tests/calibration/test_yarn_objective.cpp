@@ -197,11 +197,11 @@ TEST(YarnObjective, StopsAtTheCutoffWithALowerBound) {
 TEST(YarnObjective, RejectsTargetsWithoutStretch) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
   const testcase::Stockinette st = testcase::load_stockinette();
-  std::vector<DirectionTargets> none(1);
+  std::vector<db::DirectionTargets> none(1);
   EXPECT_THROW(YarnObjective(st.yarn_tile(), none), std::invalid_argument);
   ObjectiveOptions o;
   o.samples = 1;
-  std::vector<DirectionTargets> t(1);
+  std::vector<db::DirectionTargets> t(1);
   t[0].stretch = {{0.0, 0.0, 0.0, true}, {0.1, 0.02, 5.0, true}};
   EXPECT_THROW(YarnObjective(st.yarn_tile(), t, o), std::invalid_argument);
 }

@@ -312,6 +312,31 @@ TEST_F(FitCli, FitRunsShellThenYarnAndWritesBothStagesAndASummary) {
     EXPECT_NE(r.err.find((out / f).string() + ": exists (use --force"), std::string::npos) << f << "\n" << r.err;
 }
 
+// Every invalid option of the pipeline is named at once, before the shell stage runs (on the
+// bundled example, which needs no shared data: nothing is simulated).
+TEST(FitOptions, EveryInvalidOptionIsRefusedBeforeTheShellStage) {
+  ScratchDir dir("fit_options");
+  const fs::path example = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
+  const auto r = run_cli("fit " + quoted(example) + " --out " + quoted(dir / "out") +
+                         " --particles 1 --samples 1 --local-method simplex --mesh -1");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  for (const char* option : {"--particles: must be at least 2 (got 1)", "--samples: must be at least 2 (got 1)",
+                             "--local-method: simplex: not a local method", "--mesh: must be a positive cell size"})
+    EXPECT_NE(r.err.find(option), std::string::npos) << option << "\n" << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));  // nothing ran, nothing was written
+  // The same for `yarn fit` and `shell fit`.
+  const auto y = run_cli("yarn fit " + quoted(example) + " --targets " + quoted(dir / "none.csv") + " --out " +
+                         quoted(dir / "y") + " --particles 1 --local-samples 0");
+  EXPECT_EQ(y.exit_code, 2);
+  for (const char* needle : {"--particles: must be at least 2", "--local-samples: must be at least 2", "none.csv"})
+    EXPECT_NE(y.err.find(needle), std::string::npos) << needle << "\n" << y.err;
+  const auto s = run_cli("shell fit " + quoted(example) + " --out " + quoted(dir / "s") + " --refine 9 --threads 0");
+  EXPECT_EQ(s.exit_code, 2);
+  EXPECT_NE(s.err.find("--refine: must be 0 to 4 (got 9)"), std::string::npos) << s.err;
+  EXPECT_NE(s.err.find("--threads: must be 1 to 64 (got 0)"), std::string::npos) << s.err;
+  EXPECT_FALSE(fs::exists(dir / "s"));
+}
+
 TEST_F(FitCli, HelpListsTheOptions) {
   auto r = run_cli("yarn fit --help");
   ASSERT_EQ(r.exit_code, 0);

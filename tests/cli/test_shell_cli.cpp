@@ -239,8 +239,9 @@ TEST(ShellCli, SimReportsANonConvergedSceneClearly) {
   EXPECT_NE(r.err.find("shell sim: not converged"), std::string::npos) << r.err;
 }
 
-// Progress goes to a terminal only (SPEC §5): stage and directions, iteration, best error and
-// time, rewritten in place; nothing when stderr is a file or with --quiet.
+// Progress goes to a terminal only (SPEC §5): stage and directions, iteration of the stage's
+// budget, best error, time and the time left (at most: Ceres may stop before its budget),
+// rewritten in place; nothing when stderr is a file or with --quiet.
 TEST(ShellCli, FitShowsProgressOnATerminalOnly) {
   ScratchDir dir("progress");
   ASSERT_EQ(run_cli("synth shell --out " + quoted(dir / "syn") + " --bias 0 --warp 0.3 --refine 0 --points 5").exit_code, 0);
@@ -258,11 +259,13 @@ TEST(ShellCli, FitShowsProgressOnATerminalOnly) {
     return read_file(log);
   };
   const std::string shown = on_terminal("", dir / "tty.log");
-  for (const char* expected : {"\rshell fit: in-plane (weft, warp) start 1/3, iteration 1, best rms error ",
-                               "\rshell fit: in-plane (weft, warp), iteration 1, best rms error "})
+  for (const char* expected : {"\rshell fit: in-plane (weft, warp) start 1/3, iteration 1/8, best rms error ",
+                               "\rshell fit: in-plane (weft, warp), iteration 1/100, best rms error "})
     EXPECT_NE(shown.find(std::string(expected).insert(1, "\033[K")), std::string::npos) << expected << "\n" << shown;
   EXPECT_NE(shown.find(" %, "), std::string::npos) << shown;
   EXPECT_NE(shown.find(" s"), std::string::npos) << shown;
+  EXPECT_NE(shown.find(", at most "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" s left in this stage"), std::string::npos) << shown;
   const std::string quiet = on_terminal(" --quiet", dir / "quiet.log");
   EXPECT_EQ(quiet.find("shell fit:"), std::string::npos) << quiet;
 }

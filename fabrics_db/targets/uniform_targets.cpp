@@ -1,24 +1,69 @@
-#include "calibration/targets/uniform_targets_reader.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
 
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "fabrics_db/csv/csv_table.hpp"
 #include "fabrics_db/text_util.hpp"
 
-namespace yarnfit::calibration {
+namespace yarnfit::db {
 
 namespace {
 
 constexpr const char* k_columns[] = {"direction", "kind", "stretch", "compression", "stress_s_N_per_m"};
+constexpr int k_digits = 10;  // significant digits of every number in the file
+
+// A value as the file stores it: written with k_digits and read back by the reader.
+double stored(double value) {
+  std::string why;
+  const auto v = parse_finite_number(format_g(value, k_digits), why);
+  return v ? *v : value;  // the reader would refuse a non-finite value; keep it as it is
+}
 
 }  // namespace
 
+std::string uniform_targets_csv(const std::vector<DirectionTargets>& targets) {
+  std::ostringstream out;
+  out << "direction,kind,stretch,compression,stress_s_N_per_m,curvature_per_m,stress_kappa_N\n";
+  for (const auto& t : targets) {
+    const std::string dir(to_string(t.direction));
+    for (const auto& p : t.stretch) {
+      out << dir << ",stretch," << format_g(p.stretch, k_digits) << "," << format_g(p.compression, k_digits) << ","
+          << format_g(p.stress, k_digits) << ",,\n";
+    }
+    for (const auto& b : t.bending) {
+      out << dir << ",bending,,,," << format_g(b.curvature, k_digits) << "," << format_g(b.stress, k_digits) << "\n";
+    }
+  }
+  return out.str();
+}
+
+void write_uniform_targets_csv(const std::vector<DirectionTargets>& targets, const std::filesystem::path& file) {
+  write_text_file_atomically(file, uniform_targets_csv(targets));
+}
+
+std::vector<DirectionTargets> as_stored(const std::vector<DirectionTargets>& targets) {
+  std::vector<DirectionTargets> out = targets;
+  for (auto& t : out) {
+    for (auto& p : t.stretch) {
+      p.stretch = stored(p.stretch);
+      p.compression = stored(p.compression);
+      p.stress = stored(p.stress);
+    }
+    for (auto& b : t.bending) {
+      b.curvature = stored(b.curvature);
+      b.stress = stored(b.stress);
+    }
+  }
+  return out;
+}
+
 std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::filesystem::path& file,
-                                                                 db::Problems& problems) {
+                                                                 Problems& problems) {
   const std::size_t before = problems.size();
-  const auto table = db::read_csv(file, db::CsvOptions{}, problems);
+  const auto table = read_csv(file, CsvOptions{}, problems);
   if (!table) return std::nullopt;
   const std::string label = table->file_label;
 
@@ -35,8 +80,8 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
   const auto kappa_col = table->column("stress_kappa_N");
   if (problems.size() != before) return std::nullopt;
 
-  std::map<db::Direction, DirectionTargets> by_dir;
-  std::map<db::Direction, int> last_line;
+  std::map<Direction, DirectionTargets> by_dir;
+  std::map<Direction, int> last_line;
   bool curvature_missing_reported = false;
   for (const auto& row : table->rows) {
     auto cell = [&](int c) -> std::string { return c < static_cast<int>(row.cells.size()) ? row.cells[c] : ""; };
@@ -48,7 +93,7 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
         problems.add(label, row.line, field, "empty cell (a number is expected)");
         return false;
       }
-      const auto v = db::parse_finite_number(text, why);
+      const auto v = parse_finite_number(text, why);
       if (!v) {
         problems.add(label, row.line, field, "'" + text + "': " + why);
         return false;
@@ -57,7 +102,7 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
       return true;
     };
     const std::string dname = cell(col["direction"]);
-    const auto dir = db::parse_direction(dname);
+    const auto dir = parse_direction(dname);
     if (!dir) {
       problems.add(label, row.line, "direction", "unknown direction '" + dname + "' (expected weft, bias or warp)");
       continue;
@@ -66,20 +111,20 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
     t.direction = *dir;
     const std::string kind = cell(col["kind"]);
     if (kind == "stretch") {
-      shell::UniaxialPoint p;
+      UniaxialPoint p;
       bool ok = number(col["stretch"], "stretch", p.stretch);
       ok = number(col["compression"], "compression", p.compression) && ok;
       ok = number(col["stress_s_N_per_m"], "stress_s_N_per_m", p.stress) && ok;
       if (!ok) continue;
       if (p.stretch <= -1.0) {
-        problems.add(label, row.line, "stretch", "stretch " + db::format_g(p.stretch) + " must be > -1");
+        problems.add(label, row.line, "stretch", "stretch " + format_g(p.stretch) + " must be > -1");
         continue;
       }
       if (!t.stretch.empty() && p.stretch <= t.stretch.back().stretch) {
         problems.add(label, row.line, "stretch",
-                     "stretch " + db::format_g(p.stretch) + " does not increase (previous " + std::string(dname) +
+                     "stretch " + format_g(p.stretch) + " does not increase (previous " + std::string(dname) +
                          " row, line " + std::to_string(last_line[*dir]) + ", has " +
-                         db::format_g(t.stretch.back().stretch) + ")");
+                         format_g(t.stretch.back().stretch) + ")");
         continue;
       }
       p.converged = true;
@@ -94,7 +139,7 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
         }
         continue;
       }
-      shell::BendingPoint b;
+      BendingPoint b;
       bool ok = number(curvature_col, "curvature_per_m", b.curvature);
       ok = number(kappa_col, "stress_kappa_N", b.stress) && ok;
       if (ok) t.bending.push_back(b);
@@ -106,7 +151,7 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
   for (auto& [dir, t] : by_dir) {
     if (t.stretch.size() == 1) {
       problems.add(label, last_line[dir], "stretch",
-                   std::string(db::to_string(dir)) + " has one stretch row; at least 2 are needed");
+                   std::string(to_string(dir)) + " has one stretch row; at least 2 are needed");
     }
     out.push_back(std::move(t));
   }
@@ -116,17 +161,17 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
 }
 
 std::vector<DirectionTargets> read_uniform_targets(const std::filesystem::path& file) {
-  db::Problems problems;
+  Problems problems;
   auto targets = read_uniform_targets(file, problems);
   if (!targets) throw std::invalid_argument(problems.to_string());
   return std::move(*targets);
 }
 
-const DirectionTargets* find_direction(const std::vector<DirectionTargets>& targets, db::Direction direction) {
+const DirectionTargets* find_direction(const std::vector<DirectionTargets>& targets, Direction direction) {
   for (const auto& t : targets) {
     if (t.direction == direction) return &t;
   }
   return nullptr;
 }
 
-}  // namespace yarnfit::calibration
+}  // namespace yarnfit::db

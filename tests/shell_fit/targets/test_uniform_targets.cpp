@@ -106,7 +106,7 @@ TEST(UniformTargets, GeneratedTargetsAndCsv) {
   EXPECT_DOUBLE_EQ(t[0].bending.back().stress, 2 * 1e-6 * 200.0);
   EXPECT_TRUE(t[1].bending.empty());
   yarnfit::testing::ScratchDir dir("targets");
-  write_uniform_targets_csv(t, dir / "uniform_targets.csv");
+  db::write_uniform_targets_csv(t, dir / "uniform_targets.csv");
   const std::string text = yarnfit::testing::read_file(dir / "uniform_targets.csv");
   EXPECT_EQ(text.rfind("direction,kind,stretch,compression,stress_s_N_per_m,curvature_per_m,stress_kappa_N\n", 0), 0u);
   EXPECT_NE(text.find("warp,stretch,0.4,"), std::string::npos);

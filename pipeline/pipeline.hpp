@@ -1,0 +1,78 @@
+#pragma once
+// The whole pipeline for one fabric as a library call (SPEC §1, §5 `yarnfit fit`): the shell
+// stage (shell_fit/fit/shell_fit.hpp) fits the shell model and makes the uniform targets,
+// which go in memory to the yarn stage (calibration/problem/yarn_fit_problem.hpp). Everything
+// that could refuse the run — options, the record's yarn-fit requirements, the --start file —
+// is checked before the shell stage starts, and every problem is listed.
+//
+//   pipeline::PipelineOptions options;
+//   options.yarn.particles = 16;
+//   const auto result = pipeline::run_pipeline("examples/fabrics/stockinette_demo", options);
+//   if (result.status == pipeline::PipelineStatus::invalid_input) std::cerr << result.problems.to_string();
+//   pipeline::write_pipeline_outputs(result, "out/stockinette_demo");
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "calibration/fit/yarn_calibration.hpp"
+#include "calibration/problem/yarn_fit_problem.hpp"
+#include "fabrics_db/problems.hpp"
+#include "fabrics_db/records/fabric.hpp"
+#include "shell_fit/fit/shell_fit.hpp"
+
+namespace yarnfit::pipeline {
+
+struct PipelineOptions {
+  shell::ShellFitOptions shell;
+  calibration::YarnFitSettings yarn;
+  // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
+  // whatever yarn.swarm says (calibration::settings_for).
+  std::filesystem::path start;
+
+  // Every invalid field, named "shell.<field>" or "yarn.<field>" (shell::ShellFitOptions,
+  // calibration::YarnFitSettings); empty when both are usable.
+  [[nodiscard]] db::Problems problems() const;
+};
+
+enum class PipelineStatus {
+  ok,
+  invalid_input,  // nothing ran: `problems` lists why
+  shell_failed,   // the shell fit did not converge: no yarn fit
+  yarn_failed,    // the yarn fit ran and failed (it still has a result)
+};
+
+struct PipelineResult {
+  PipelineStatus status = PipelineStatus::invalid_input;
+  db::Problems problems;  // invalid_input: every problem found before any work
+  std::string message;    // why the status is not ok
+  std::string fabric_id;
+  std::filesystem::path fabric_folder;  // as given (summary.txt names it)
+  std::optional<shell::ShellFitResult> shell;
+  std::optional<calibration::YarnFitProblem> yarn_problem;  // its targets are the shell stage's
+  std::optional<calibration::YarnFitResult> yarn;
+  calibration::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
+  double seconds_shell = 0.0;  // from the start (the record read) to the shell stage's end
+  double seconds_yarn = 0.0;
+  double seconds_total = 0.0;
+};
+
+// Everything run_pipeline would refuse for this fabric: the options' problems, the record's
+// (no pattern, no yarn stiffness, an unusable tile) and the start file's. Fast: no simulation.
+[[nodiscard]] db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options);
+
+// Runs both stages on `fabric`. Never throws for bad input or a failed fit: the status says.
+PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options);
+// The same on the record in `fabric_folder` (read and validated first; its problems are the
+// result's when it is invalid).
+PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const PipelineOptions& options);
+
+// The stages' JSON (SPEC §5). yarn_fit.json names its targets `targets_file`: the file
+// the shell stage's targets are written to.
+nlohmann::json shell_fit_json(const PipelineResult& result);
+nlohmann::json yarn_fit_json(const PipelineResult& result, const std::filesystem::path& targets_file);
+
+}  // namespace yarnfit::pipeline

@@ -1,0 +1,89 @@
+#pragma once
+// The shell stage of the pipeline as one call (SPEC §1 step 2, §5 `yarnfit shell fit`): the
+// in-plane fit to the stretch tests (inplane_fit.hpp), then, when the fabric has pear-loop
+// tests and the in-plane fit converged, the bending fit with the in-plane model held
+// (bending_fit.hpp, thesis 6.3.2), then the uniform targets of the fitted model
+// (shell_fit/targets/uniform_targets.hpp) in memory. to_json gives shell_fit.json.
+//
+//   const shell::ShellFitOptions options{...};
+//   if (const auto problems = options.problems(); !problems.empty()) ...;  // every bad field
+//   const shell::ShellFitResult r = shell::fit_shell(fabric, options);
+//   db::write_uniform_targets_csv(r.targets, dir / "uniform_targets.csv");
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fabrics_db/problems.hpp"
+#include "fabrics_db/records/fabric.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
+#include "reports/progress.hpp"
+#include "shell_fit/core/shell_params.hpp"
+#include "shell_fit/fit/bending_fit.hpp"
+#include "shell_fit/fit/inplane_fit.hpp"
+#include "shell_fit/targets/uniform_targets.hpp"
+
+namespace yarnfit::shell {
+
+struct ShellFitOptions {
+  double mesh = 5e-3;        // cell size of the clamped-stretch scenes [m], > 0
+  int refinements = 0;       // midpoint subdivisions of that mesh, 0–4
+  int threads = 1;           // test directions simulated in parallel, 1–64
+  int max_iterations = 100;  // Ceres iterations of the in-plane fit after its multi-start, 1–1000
+  // Fit every measured point, not only up to the power range (83.3 N/m line force).
+  bool full_range = false;
+  // Progress of both fits; seconds count from the start of the stage.
+  reports::ProgressFn progress;
+
+  // Every invalid field, each named ("mesh", "refinements", …); empty when all are usable.
+  [[nodiscard]] db::Problems problems() const;
+  [[nodiscard]] bool is_valid() const { return problems().empty(); }
+};
+
+struct ShellFitResult {
+  std::string fabric_id;
+  bool has_bending_tests = false;  // false: k_θ not fitted, and not identified
+  InplaneFitResult inplane;
+  // Set when the fabric has bending tests and the in-plane fit converged.
+  std::optional<BendingFitResult> bending;
+  ShellParams params;   // the fitted model (k_θ zero when not fitted)
+  TargetRanges ranges;  // stretch and curvature ranges the targets cover
+  // The uniform targets of the fitted model as uniform_targets.csv stores them
+  // (db::as_stored): the yarn stage fits these, in memory or read from the file, alike.
+  std::vector<db::DirectionTargets> targets;
+  // What each scene simulated: "stretch" → the in-plane fit's effects, "pear_loop" → the
+  // bending fit's (when it ran).
+  std::map<std::string, std::vector<std::string>> effects;
+  double seconds = 0.0;  // the fits (the in-plane fit's time plus the bending fit's)
+
+  // The in-plane fit converged, and the bending fit too when it ran.
+  [[nodiscard]] bool converged() const { return inplane.converged && (!bending || bending->converged); }
+  // Why not converged ("" when converged): "shell fit did not converge: …" or "bending fit …".
+  [[nodiscard]] std::string failure() const;
+};
+
+// Throws std::invalid_argument listing every problem when `options` are invalid. A fit that
+// does not converge is a result (converged() false), never an exception.
+ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& options);
+
+// shell_fit.json (SPEC §5): params {kxx, kxy, kyy, kss, kn1, kn2, ktheta_weft, ktheta_bias,
+// ktheta_warp} (k_θ null when not fitted), errors {stretch_force_pct, compression_pct,
+// bending_pct} (null where there is no figure, with errors_reason), identified,
+// not_identified, effects, timing_s, the in-plane details (inplane_fit_json) and `bending`.
+nlohmann::json to_json(const ShellFitResult& result);
+
+// The keys of shell_fit.json's params, in this order.
+inline const char* const k_shell_param_names[9] = {"kxx", "kxy", "kyy", "kss", "kn1", "kn2",
+                                                   "ktheta_weft", "ktheta_bias", "ktheta_warp"};
+
+// The parameters of a shell_fit.json (its `params`, or the top level when there is none), in
+// the order of k_shell_param_names; absent and null (not fitted) ones are empty. Problems
+// name the file and the key (unreadable, not JSON, a value that is not a number, none found).
+std::array<std::optional<double>, 9> read_shell_params(const std::filesystem::path& file, db::Problems& problems);
+
+}  // namespace yarnfit::shell

@@ -1,0 +1,60 @@
+// The output folders of the fit commands (pipeline/outputs.hpp): what is refused before any
+// work, and what each stage's result writes.
+#include <gtest/gtest.h>
+
+#include "pipeline/outputs.hpp"
+#include "tests/test_support.hpp"
+
+namespace yarnfit::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+using yarnfit::testing::read_file;
+using yarnfit::testing::ScratchDir;
+using yarnfit::testing::write_file;
+
+TEST(Outputs, ExistingFilesAreRefusedUnlessOverwriting) {
+  ScratchDir dir("outputs");
+  EXPECT_TRUE(output_problems(dir / "new", pipeline_output_files(), false).empty());
+  write_file(dir / "out" / "yarn_fit.json", "mine\n");
+  write_file(dir / "out" / "summary.txt", "mine\n");
+  const auto problems = output_problems(dir / "out", pipeline_output_files(), false);
+  EXPECT_EQ(problems.to_string(), (dir / "out" / "yarn_fit.json").string() + ": exists (use --force to replace it)\n" +
+                                      (dir / "out" / "summary.txt").string() + ": exists (use --force to replace it)\n");
+  EXPECT_TRUE(output_problems(dir / "out", pipeline_output_files(), true).empty());
+  write_file(dir / "file", "x");
+  EXPECT_EQ(output_problems(dir / "file", yarn_output_files(), true).to_string(),
+            (dir / "file").string() + ": exists and is not a folder\n");
+}
+
+TEST(Outputs, AShellStageThatFailedWritesItsTwoFilesOnly) {
+  ScratchDir dir("outputs_shell");
+  PipelineResult r;
+  r.status = PipelineStatus::shell_failed;
+  r.shell = shell::ShellFitResult{};
+  r.shell->fabric_id = "x";
+  const PipelineOutputs written = write_pipeline_outputs(r, dir / "out");
+  EXPECT_EQ(written.files, (std::vector<std::string>{"shell_fit.json", "uniform_targets.csv"}));
+  EXPECT_TRUE(written.summary.empty());
+  const auto j = nlohmann::json::parse(read_file(dir / "out" / "shell_fit.json"));
+  EXPECT_EQ(j["fabric"], "x");
+  EXPECT_TRUE(j["errors"]["stretch_force_pct"].is_null());  // nothing fitted: no figure, not 0
+  EXPECT_FALSE(fs::exists(dir / "out" / "shell_curves.csv"));
+}
+
+TEST(Outputs, AYarnFitsFolderFromItsJson) {
+  ScratchDir dir("outputs_yarn");
+  const nlohmann::json yarn = {{"ok", true},
+                               {"fabric", "demo"},
+                               {"targets", "t.csv"},
+                               {"curves", nlohmann::json::array()},
+                               {"settings", {{"swarm", false}}}};
+  const std::string summary = write_yarn_outputs(yarn, dir / "out");
+  EXPECT_EQ(summary.rfind("yarn fit: ok\n", 0), 0u) << summary;
+  EXPECT_EQ(read_file(dir / "out" / "yarn_summary.txt"), "fabric demo, targets t.csv\n" + summary);
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir / "out" / "yarn_fit.json")), yarn);
+  EXPECT_EQ(read_file(dir / "out" / "yarn_curves.csv").rfind("direction,sample,stretch,", 0), 0u);
+}
+
+}  // namespace
+}  // namespace yarnfit::pipeline
