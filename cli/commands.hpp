@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <iostream>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -26,6 +28,23 @@ void add_synth_yarn_command(CLI::App& synth, int& exit_code);
 void add_yarn_commands(CLI::App& app, int& exit_code);
 // `yarn fit` (registered on `yarn`) and the whole pipeline `fit` (cli/commands_fit.cpp).
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code);
+
+// Runs `write` (a synth command writing a fabric record into `out`) and turns what it throws
+// into the exit code with one line on stderr: invalid settings and an existing record are the
+// user's to fix (2), anything else is internal (1).
+template <class Write>
+int exit_code_of_writing(const std::string& out, Write&& write) {
+  try {
+    write();
+  } catch (const std::invalid_argument& e) {
+    std::cerr << out << ": " << e.what() << "\n";
+    return k_exit_invalid_input;
+  } catch (const std::exception& e) {
+    std::cerr << out << ": " << e.what() << "\n";
+    return std::string(e.what()).find("exists") != std::string::npos ? k_exit_invalid_input : k_exit_internal;
+  }
+  return k_exit_ok;
+}
 
 // Runs `write`, which writes files into the folder `out`; false after printing
 // `out: file: what` when it throws (an internal failure: exit 1).

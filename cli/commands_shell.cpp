@@ -100,15 +100,8 @@ int run_synth_shell(const SynthArgs& a) {
   o.seed = a.seed;
   o.points = a.points;
   o.bending_points = a.bend_points;
-  try {
-    shell::write_synthetic_shell_fabric(o, a.out, a.force);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << a.out << ": " << e.what() << "\n";
-    return k_exit_invalid_input;
-  } catch (const std::exception& e) {
-    std::cerr << a.out << ": " << e.what() << "\n";
-    return std::string(e.what()).find("exists") != std::string::npos ? k_exit_invalid_input : k_exit_internal;
-  }
+  const int code = exit_code_of_writing(a.out, [&] { shell::write_synthetic_shell_fabric(o, a.out, a.force); });
+  if (code != k_exit_ok) return code;
   std::cout << "wrote synthetic fabric " << a.id << " to " << a.out << "\n";
   return k_exit_ok;
 }

@@ -50,21 +50,14 @@ int run_synth_yarn(const SynthYarnArgs& a) {
     for (const auto& p : problems) std::cerr << p << "\n";
     return k_exit_invalid_input;
   }
-  try {
+  return exit_code_of_writing(a.out, [&] {
     const auto r = calibration::write_synthetic_yarn_fabric(*tile, *params, o, a.out, a.force);
     if (!a.quiet) {
       std::cout << "wrote " << (std::filesystem::path(a.out) / "uniform_targets.csv").string() << " and fabric "
                 << a.id << " in " << (std::filesystem::path(a.out) / "fabric").string() << " ("
                 << db::format_g(r.seconds, 3) << " s)\n";
     }
-  } catch (const std::invalid_argument& e) {
-    std::cerr << a.out << ": " << e.what() << "\n";
-    return k_exit_invalid_input;
-  } catch (const std::exception& e) {
-    std::cerr << a.out << ": " << e.what() << "\n";
-    return std::string(e.what()).find("exists") != std::string::npos ? k_exit_invalid_input : k_exit_internal;
-  }
-  return k_exit_ok;
+  });
 }
 
 }  // namespace

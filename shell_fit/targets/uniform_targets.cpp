@@ -1,7 +1,10 @@
 #include "shell_fit/targets/uniform_targets.hpp"
 
 #include <cmath>
+#include <limits>
+#include <optional>
 
+#include "numerics/roots/bracketed_root.hpp"
 #include "shell_fit/energies/inplane_material.hpp"
 
 namespace yarnfit::shell {
@@ -21,9 +24,9 @@ Eigen::Matrix2d deformation(const Frame& f, double s, double c) {
   return (1.0 + s) * f.u * f.u.transpose() + (1.0 - c) * f.v * f.v.transpose();
 }
 
-// dΨ/dc = −vᵀ P v and d²Ψ/dc² = vᵀ⊗vᵀ : ∂P/∂F : v⊗v, both along the line F(s, ·).
+// Ψ and dΨ/dc = −vᵀ P v along the line F(s, ·).
 struct Slope {
-  double psi = 0.0, d1 = 0.0, d2 = 0.0;
+  double psi = 0.0, d1 = 0.0;
 };
 
 Slope along_c(const InplaneMaterial& m, const Frame& f, double s, double c) {
@@ -32,11 +35,7 @@ Slope along_c(const InplaneMaterial& m, const Frame& f, double s, double c) {
   out.psi = m.psi(F);
   if (!std::isfinite(out.psi)) return out;
   const Eigen::Matrix2d dF = -f.v * f.v.transpose();  // ∂F/∂c
-  const Eigen::Matrix2d P = m.pk1(F);
-  out.d1 = (P.array() * dF.array()).sum();
-  const Eigen::Matrix4d A = m.dpk1(F);
-  const Eigen::Map<const Eigen::Vector4d> w(dF.data());
-  out.d2 = w.dot(A * w);
+  out.d1 = (m.pk1(F).array() * dF.array()).sum();
   return out;
 }
 
@@ -50,60 +49,28 @@ UniaxialPoint uniaxial_point(const InplaneParams& params, double pull_angle, dou
   UniaxialPoint out;
   out.stretch = stretch;
 
-  // Safeguarded Newton on dΨ/dc = 0 inside a bracket [lo, hi] with dΨ/dc(lo) < 0 < dΨ/dc(hi).
-  // c < 1 always (the width stays positive); the area barrier makes Ψ → ∞ as c → 1.
-  auto at = [&](double c) { return along_c(material, f, stretch, c); };
-  double lo = previous_c, hi = previous_c;
-  double step = 0.05;
-  Slope s_lo = at(lo);
-  if (!std::isfinite(s_lo.psi)) {
-    lo = hi = 0.0;
-    s_lo = at(0.0);
-  }
-  Slope s_hi = s_lo;
-  // Expand the bracket: more compression while the slope is negative, less while positive.
-  for (int i = 0; i < 200 && s_lo.d1 > 0.0; ++i) {
-    hi = lo;
-    s_hi = s_lo;
-    lo -= step;
-    step *= 1.6;
-    s_lo = at(lo);
-  }
-  step = 0.05;
-  for (int i = 0; i < 200 && !(s_hi.d1 > 0.0); ++i) {
-    lo = hi;
-    s_lo = s_hi;
-    double next = hi + step;
-    if (next >= 1.0) next = 0.5 * (hi + 1.0);  // approach the barrier, never cross it
-    step *= 1.6;
-    hi = next;
-    s_hi = at(hi);
-    if (!std::isfinite(s_hi.psi)) s_hi.d1 = 1.0;  // past the barrier counts as "rising"
-  }
-  if (!(s_lo.d1 <= 0.0 && s_hi.d1 > 0.0)) {
+  // c* is the root of dΨ/dc, which increases with c (Ψ is convex along the line F(s, ·)) and
+  // is +inf past c = 1, where the area barrier makes Ψ infinite (the width would vanish):
+  // the root finder (numerics/roots) from the previous point's c* (continuation along s).
+  const auto slope = [&](double c) -> std::optional<double> {
+    const Slope sc = along_c(material, f, stretch, c);
+    return std::isfinite(sc.psi) ? sc.d1 : std::numeric_limits<double>::infinity();
+  };
+  numerics::RootFindOptions ro;
+  ro.lower = -10.0;
+  ro.upper = 1.0;
+  ro.initial_step = 0.05;
+  ro.x_tolerance = 1e-13;
+  ro.max_evaluations = 200;
+  const double start = std::isfinite(along_c(material, f, stretch, previous_c).psi) ? previous_c : 0.0;
+  const numerics::RootResult root = numerics::find_root(slope, start, ro);
+  if (!root.converged() || !std::isfinite(root.f)) {
     out.compression = previous_c;
     out.converged = false;
     return out;
   }
-  double c = 0.5 * (lo + hi);
-  for (int it = 0; it < 100; ++it) {
-    const Slope sc = at(c);
-    if (!std::isfinite(sc.psi)) {
-      hi = c;
-    } else if (sc.d1 > 0.0) {
-      hi = c;
-    } else {
-      lo = c;
-    }
-    double next = (std::isfinite(sc.psi) && sc.d2 > 0.0) ? c - sc.d1 / sc.d2 : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // Newton left the bracket: bisect
-    if (std::abs(next - c) < 1e-13 || hi - lo < 1e-13) {
-      c = next;
-      out.converged = true;
-      break;
-    }
-    c = next;
-  }
+  out.converged = true;
+  const double c = root.x;
   out.compression = c;
   const Eigen::Matrix2d F = deformation(f, stretch, c);
   out.stress = f.u.dot(material.pk1(F) * f.u);

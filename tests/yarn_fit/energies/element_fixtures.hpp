@@ -8,6 +8,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <iostream>
 #include <random>
 #include <string>
@@ -19,6 +21,11 @@ namespace yarnfit::yarn::fixtures {
 
 using testing::DerivativeCheckOptions;
 using testing::ErrorTally;
+using testing::expect_element_derivatives;
+using testing::min_eigenvalue;
+
+inline constexpr double pi = std::numbers::pi;
+inline constexpr double inf = std::numeric_limits<double>::infinity();
 
 inline constexpr double yarn_radius = 1e-3;  // [m]
 inline constexpr double edge_length = 1e-3;  // [m]

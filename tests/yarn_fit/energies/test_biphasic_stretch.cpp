@@ -4,31 +4,17 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <cmath>
-#include <iostream>
-#include <limits>
-#include <numbers>
-#include <random>
-#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
 #include "tests/yarn_fit/energies/element_fixtures.hpp"
-#include "yarn_fit/energies/yarn_elements.hpp"
 
 namespace yarnfit::yarn {
 namespace {
 
 using namespace fixtures;
-using testing::DerivativeCheckOptions;
-using testing::expect_element_derivatives;
-using testing::min_eigenvalue;
-
-constexpr double pi = std::numbers::pi;
-[[maybe_unused]] constexpr double inf = std::numeric_limits<double>::infinity();
 
 BiphasicStretch stretch_model() { return {.ks1 = 20.0, .ks2 = ks2, .eps_s = 0.05}; }
 
