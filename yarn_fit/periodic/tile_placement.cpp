@@ -1,6 +1,5 @@
 #include "yarn_fit/periodic/tile_placement.hpp"
 
-#include <cstdlib>
 #include <stdexcept>
 
 namespace yarnfit::yarn {
@@ -21,11 +20,8 @@ void TilePlacement::update(const YarnTile& tile, const CoarseMap& map) {
   }
 }
 
-const TilePlacement::Placement& TilePlacement::at(int v, const Cell& cell) const {
-  if (std::abs(cell.i) > kCells || std::abs(cell.j) > kCells)
-    throw std::logic_error("yarn system: placement outside the cached cells");
-  const int side = 2 * kCells + 1;
-  return m_placements[static_cast<std::size_t>(((cell.i + kCells) * side + (cell.j + kCells)) * m_vertex_count + v)];
+void TilePlacement::outside_cached_cells() {
+  throw std::logic_error("yarn system: placement outside the cached cells");
 }
 
 }  // namespace yarnfit::yarn

@@ -26,8 +26,13 @@ class TilePlacement {
   void update(const YarnTile& tile, const CoarseMap& map);
 
   // Throws std::logic_error for a cell outside the cached range (a tile or contact list that
-  // reaches further than periodic elements can).
-  [[nodiscard]] const Placement& at(int v, const Cell& cell) const;
+  // reaches further than periodic elements can). Inline: every element evaluation asks for
+  // the placements of its vertices.
+  [[nodiscard]] const Placement& at(int v, const Cell& cell) const {
+    if (cell.i > kCells || cell.i < -kCells || cell.j > kCells || cell.j < -kCells) outside_cached_cells();
+    constexpr int side = 2 * kCells + 1;
+    return m_placements[static_cast<std::size_t>(((cell.i + kCells) * side + (cell.j + kCells)) * m_vertex_count + v)];
+  }
   // Deformed position of vertex v copied into `cell`, for fluctuations g (3 per vertex).
   [[nodiscard]] Eigen::Vector3d position(const Eigen::VectorXd& g, int v, const Cell& cell) const {
     const Placement& p = at(v, cell);
@@ -38,6 +43,7 @@ class TilePlacement {
   [[nodiscard]] bool curved() const { return m_curved; }
 
  private:
+  [[noreturn]] static void outside_cached_cells();
   int m_vertex_count = 0;
   bool m_curved = false;
   std::vector<Placement> m_placements;
