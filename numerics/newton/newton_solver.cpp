@@ -192,9 +192,11 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     if (c == nullptr) return infinity_norm(gradient);
     return infinity_norm(gradient - c->transpose() * cct_ldlt.solve(*c * gradient));
   };
+  ShiftedFactorisation factor;
   const auto finish = [&](NewtonStatus status, std::string message) {
     summary.status = status;
     summary.message = std::move(message);
+    summary.analyses = factor.analyses();
     summary.seconds = elapsed();
     return summary;
   };
@@ -211,7 +213,6 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
   double residual = gradient.allFinite() ? residual_of(gradient) : std::numeric_limits<double>::quiet_NaN();
   summary.initial_residual = residual;
 
-  ShiftedFactorisation factor;
   Triplets triplets;
   Eigen::VectorXd trial(n), trial_gradient;
   double shift = options.shift_initial;  // relative shift μ
@@ -247,6 +248,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     bool exact = !options.project_psd || (options.exact_hessian_first && !skip_exact);
     const auto assemble = [&]() {
       triplets.clear();
+      ++summary.assemblies;
       if (!problem.hessian(x, !exact, triplets, &why)) return false;
       factor.assemble(n, triplets);
       if (options.shift_past_nonpositive_diagonal) {
@@ -293,6 +295,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
 
     while (!accepted) {
       if (options.max_failed_attempts > 0 && failed_attempts >= options.max_failed_attempts) break;
+      ++summary.factorisations;
       if (!factor.factorise(shift)) {
         last_failure = "the shifted Hessian was not positive definite";
         if (exact && shift < options.exact_shift_limit) {
@@ -357,6 +360,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
       int infinite_trials = 0;
       for (int k = 0; k < options.max_line_search_steps; ++k) {
         trial = x + t * step;
+        ++summary.energy_evaluations;
         const double e = problem.energy(trial);
         if (std::isnan(e)) ++nan_trials;
         if (std::isfinite(e) && e <= energy + options.armijo * t * slope) {
@@ -422,7 +426,6 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     }
     problem.prepare(x);
     energy = problem.energy_gradient(x, gradient);
-    summary.analyses = factor.analyses();
     if (!std::isfinite(energy))
       return finish(NewtonStatus::non_finite, "the energy became non-finite after the problem was prepared for the new state");
     residual = gradient.allFinite() ? residual_of(gradient) : std::numeric_limits<double>::quiet_NaN();

@@ -177,6 +177,9 @@ struct NewtonSummary {
   int regularised_steps = 0;      // accepted steps that needed a shift μ > 0
   int projected_steps = 0;        // accepted steps taken with the projected Hessian
   int analyses = 0;               // symbolic analyses of the sparsity pattern
+  int factorisations = 0;         // numeric factorisations (several per iteration when shifted)
+  int assemblies = 0;             // Hessian assemblies (a second one when the projection replaces the exact)
+  int energy_evaluations = 0;     // trial energies of the line searches
   // Filled by callers that walk a load parameter (shell_fit's continuation); 0 otherwise.
   int continuation_steps = 0;     // accepted load steps
   int cut_backs = 0;              // failed load steps that were halved and retried
