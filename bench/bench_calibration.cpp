@@ -156,6 +156,26 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
   if (!r.profile.message.empty()) std::printf("    incomplete: %s\n", r.profile.message.c_str());
 }
 
+// The goals of issue 17 for a recovery run: the whole fit's time, and the accuracy that the
+// speed work must keep (ks1, ε̄s, kb, kc1 within 10 %, R1 within 1 % of the truth, the mean
+// comfort-range stress error ≤ 0.5 %).
+void print_recovery_goals(const Problem& p, const calibration::YarnFitResult& r, int threads) {
+  std::printf("goals (issue 17):\n");
+  std::printf("  whole yarn fit %.0f s on %d thread(s)   goal <= 300 s   %s (moonshot <= 120 s: %s)\n", r.seconds_total,
+              threads, r.seconds_total <= 300.0 ? "met" : "MISSED", r.seconds_total <= 120.0 ? "met" : "missed");
+  const auto off = [](double fitted, double truth) { return std::abs(fitted / truth - 1.0); };
+  const double worst10 = std::max({off(r.params.ks1, p.truth.ks1), off(r.params.eps_s, p.truth.eps_s),
+                                   off(r.params.kb, p.truth.kb), off(r.params.kc1, p.truth.kc1)});
+  const double r1 = off(r.params.r1, p.truth.r1);
+  double comfort = 0.0;
+  for (const auto& d : r.final.directions) comfort += d.stress_comfort_pct;
+  comfort /= std::max<std::size_t>(r.final.directions.size(), 1);
+  std::printf("  ks1, eps_s, kb, kc1 worst %.1f %% off (<= 10 %%), R1 %.2f %% off (<= 1 %%), stress comfort %.2f %% "
+              "(<= 0.5 %%)   %s\n",
+              100.0 * worst10, 100.0 * r1, comfort,
+              r.ok && worst10 <= 0.1 && r1 <= 0.01 && comfort <= 0.5 ? "met" : "MISSED");
+}
+
 calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s) {
   s.progress = [](const reports::Progress& e) {
     std::fprintf(stderr, "\r  %s %d/%d  best %.4g  %.0f s      ", e.stage.c_str(), e.step, e.steps, e.best, e.seconds);
@@ -244,7 +264,11 @@ int main(int argc, char** argv) {
                     g[1] / at_truth.value);
       }
       std::fflush(stdout);
-      if (mode == "recovery") print_fit("recovery", p, run(p, base), true);
+      if (mode == "recovery") {
+        const calibration::YarnFitResult r = run(p, base);
+        print_fit("recovery", p, r, true);
+        print_recovery_goals(p, r, base.threads);
+      }
     } else if (mode == "ablations") {
       print_fit("full method", p, run(p, base), true);
       calibration::YarnFitSettings s = base;

@@ -209,18 +209,20 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
       // sample's equilibrium, at its c* moved by the targets' change of c, with a first
       // bracketing step of the size of the last change of c*.
       if (add_sample(s0, c0, first.stress_s)) return finish_direction();
-      double c_prev = c0, dc_prev = 0.0;
+      double c_prev = c0, dc_prev = 0.0, slope_prev = first.stress_c_slope;
       for (int i = 1; i < n; ++i) {
         const double s = stretch_at(i);
         yarn::CompressionOptions cs = comp;
         cs.initial_guess = c_prev + target_c(s) - target_c(stretch_at(i - 1));
         cs.initial_step = std::clamp(2.0 * std::abs(dc_prev), 0.002, std::min(cs.initial_step, 0.02));
+        cs.initial_slope = slope_prev;
         chi.stretch = s;
         yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
         count(smp);
         if (!smp.ok) return (dname + ": free compression at s = " + db::format_g(s) + " failed: " + smp.message);
         dc_prev = smp.chi.compression - c_prev;
         c_prev = smp.chi.compression;
+        if (smp.stress_c_slope > 0.0) slope_prev = smp.stress_c_slope;
         if (add_sample(s, smp.chi.compression, smp.stress_s)) break;
       }
       return finish_direction();

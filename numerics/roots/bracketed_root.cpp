@@ -8,14 +8,13 @@ namespace yarnfit::numerics {
 
 namespace {
 
-// The secant-guided step, limited to [¼, 4] times the doubling step as written for an upward
-// search: min(max(v, ¼·step), 4·step). For a downward search (step < 0) ¼·step > 4·step and
-// this always gives 4·step: going down, a secant that points the same way quadruples the step
-// whatever its length. The compression searches of every fit so far were made with this rule,
-// so it is kept here unchanged and revisited with the speed work on the c* searches (issue
-// 17), where the fits are re-measured.
+// The secant-guided step: 10 % past the secant's root, its length kept within ¼ to 4 times
+// the doubling step, in the step's direction. (Until issue 17 this was written for upward
+// searches only, min(max(v, ¼·step), 4·step), which for a downward search always gave 4·step:
+// going down, a secant pointing the same way quadrupled the step whatever its length.)
 double limited_secant_step(double to_root, double step) {
-  return std::min(std::max(1.1 * to_root, 0.25 * step), 4.0 * step);
+  const double length = std::clamp(std::abs(1.1 * to_root), 0.25 * std::abs(step), 4.0 * std::abs(step));
+  return std::copysign(length, step);
 }
 
 }  // namespace

@@ -58,6 +58,15 @@ struct CompressionSearch {
   Sample last;
   Sample best;
   double best_psi = std::numeric_limits<double>::infinity();
+  // The last two converged evaluations (c, ∂Ψ/∂c), for the slope handed to the next search.
+  double c_previous = 0.0, f_previous = 0.0, c_latest = 0.0, f_latest = 0.0;
+  int converged_evaluations = 0;
+
+  [[nodiscard]] double slope() const {
+    if (converged_evaluations < 2 || c_latest == c_previous) return 0.0;
+    const double k = (f_latest - f_previous) / (c_latest - c_previous);
+    return std::isfinite(k) && k > 0.0 ? k : 0.0;
+  }
 
   // Every evaluation starts from the same state (the caller's warm start): knit tiles have
   // several equilibria close together, and chaining warm starts from one trial compression
@@ -71,6 +80,11 @@ struct CompressionSearch {
     iterations += s.newton_iterations;
     if (s.ok) {
       g = trial;
+      c_previous = c_latest;
+      f_previous = f_latest;
+      c_latest = c;
+      f_latest = s.stress_c;
+      ++converged_evaluations;
       if (s.energy_density < best_psi) {
         best_psi = s.energy_density;
         best = s;
@@ -116,6 +130,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
     ro.lower = co.lower;
     ro.upper = co.upper;
     ro.initial_step = co.initial_step;
+    ro.initial_slope = co.initial_slope;
     ro.x_tolerance = co.tolerance;
     ro.f_tolerance = co.stress_tolerance;
     ro.max_evaluations = co.max_evaluations;
@@ -144,6 +159,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
   if (result.ok) g = co.method == CompressionMethod::cobyla ? search.best_g : search.g;
   result.solves = search.evaluations;
   result.newton_iterations = search.iterations;
+  result.stress_c_slope = search.slope();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -26,6 +26,10 @@ struct Sample {
   double energy_density = 0.0;       // Ψ [J/m²]
   double stress_s = 0.0;             // σ_s = dΨ/ds [N/m]
   double stress_c = 0.0;             // ∂Ψ/∂c [N/m] (0 at the zero-orthogonal-stress c)
+  // solve_free_compression only: the slope ∂²Ψ/∂c² [N/m] of ∂Ψ/∂c between the search's last
+  // two converged evaluations (0 when it made fewer or the slope was not positive); the next
+  // search of a march starts with it (CompressionOptions::initial_slope).
+  double stress_c_slope = 0.0;
   Eigen::Matrix2d coarse_stress = Eigen::Matrix2d::Zero();  // P (κ = 0) [N/m]
   int newton_iterations = 0;         // summed over all solves of the sample
   int solves = 0;
@@ -54,6 +58,9 @@ struct CompressionOptions {
   // the band is kept as it is).
   double stress_tolerance = 0.0;
   double initial_step = 0.05;  // first bracketing step in c (a warm curve point may use less)
+  // > 0: a known ∂²Ψ/∂c² [N/m] near the guess (from the previous point of a march): the first
+  // step is then the Newton step −∂Ψ/∂c / slope instead of initial_step. 0: unknown.
+  double initial_slope = 0.0;
   int max_evaluations = 60;
   double initial_guess = 0.0;
 };

@@ -33,6 +33,7 @@ StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<d
             2.0 * std::abs(s.chi.compression - out.points.back().chi.compression), 0.002,
             options.compression.initial_step);
       compression.initial_guess = s.chi.compression;
+      if (s.stress_c_slope > 0.0) compression.initial_slope = s.stress_c_slope;
     } else {
       ++out.failures;
       s.chi.stretch = stretches[i];
