@@ -28,6 +28,8 @@ void add_synth_yarn_command(CLI::App& synth, int& exit_code);
 void add_yarn_commands(CLI::App& app, int& exit_code);
 // `yarn fit` (registered on `yarn`) and the whole pipeline `fit` (cli/commands_fit.cpp).
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code);
+// `batch` and `batch status` (cli/commands_batch.cpp).
+void add_batch_commands(CLI::App& app, int& exit_code);
 
 // Runs `write` (a synth command writing a fabric record into `out`) and turns what it throws
 // into the exit code with one line on stderr: invalid settings and an existing record are the

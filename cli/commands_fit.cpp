@@ -23,6 +23,7 @@
 
 #include "calibration/problem/yarn_fit_problem.hpp"
 #include "cli/commands.hpp"
+#include "cli/fit_args.hpp"
 #include "cli/option_names.hpp"
 #include "cli/progress_display.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
@@ -33,48 +34,6 @@
 namespace yarnfit::cli {
 namespace {
 
-
-struct YarnFitArgs {
-  std::string fabric, targets, out, checkpoint, start;
-  calibration::YarnFitSettings defaults;
-  int particles = defaults.particles;
-  int iterations = defaults.iterations;
-  int samples = defaults.swarm_samples;
-  int local_samples = defaults.local_samples;
-  int local_evaluations = defaults.local_evaluations;
-  std::string local_method = calibration::to_string(defaults.local_method);
-  std::uint64_t seed = defaults.seed;
-  int threads = 0;
-  int compression_nodes = defaults.local_compression_nodes;
-  bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false, no_profile = false;
-  bool quiet = false, force = false;
-  // `fit` only: the shell stage.
-  double mesh_mm = 5.0;
-};
-
-// The library's settings for these arguments; an unknown --local-method is a problem. --start
-// skips the swarm (the local step refines the given parameters).
-calibration::YarnFitSettings settings_from(const YarnFitArgs& a, db::Problems& problems) {
-  calibration::YarnFitSettings s;
-  s.particles = a.particles;
-  s.iterations = a.iterations;
-  s.swarm_samples = a.samples;
-  s.local_samples = a.local_samples;
-  s.local_evaluations = a.local_evaluations;
-  if (const auto method = calibration::local_method_from_string(a.local_method)) s.local_method = *method;
-  else problems.add("", 0, "--local-method", a.local_method + ": not a local method (implicit-filtering or cobyla)");
-  s.seed = a.seed;
-  s.threads = a.threads;
-  s.swarm = !a.no_swarm && a.start.empty();
-  s.linear_stretch = a.linear_stretch;
-  s.rest_shape = !a.no_rest_shape;
-  if (a.no_profile) s.profile_step = 0.0;
-  s.swarm_compression_nodes = a.compression_nodes;
-  s.local_compression_nodes = a.compression_nodes;
-  s.checkpoint = a.checkpoint;
-  s.resume = a.resume;
-  return s;
-}
 
 int refuse(const db::Problems& problems) {
   std::cerr << as_options(problems).to_string();
@@ -123,15 +82,6 @@ int run_yarn_fit(const YarnFitArgs& a) {
 
 // ---------------------------------------------------------------------------- fit (pipeline)
 
-pipeline::PipelineOptions pipeline_options(const YarnFitArgs& a, db::Problems& problems) {
-  pipeline::PipelineOptions o;
-  o.shell.mesh = a.mesh_mm * 1e-3;
-  o.shell.threads = a.threads > 0 ? a.threads : 2;
-  o.yarn = settings_from(a, problems);
-  o.start = a.start;
-  return o;
-}
-
 int run_fit(const YarnFitArgs& a) {
   db::Problems problems;
   const auto load = db::load_fabric(a.fabric);
@@ -167,41 +117,17 @@ int run_fit(const YarnFitArgs& a) {
   return k_exit_ok;
 }
 
-// Options shared by `yarn fit` and `fit`.
+// Options shared by `yarn fit` and `fit`: the fabric, the folder, the settings `batch` shares
+// (cli/fit_args.hpp), threads, a start and the terminal.
 void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
   cmd.add_option("FABRIC", a.fabric, "Fabric folder (needs pattern and a yarn stiffness_N)")->required();
   cmd.add_option("-o,--out", a.out, "Output folder")->required();
-  // Values are checked by the libraries (YarnFitSettings::problems and the options of the
-  // shell stage), so that one run names every invalid option, not only the first.
-  cmd.add_option("--particles", a.particles, "Swarm particles (at least 2)")->capture_default_str();
-  cmd.add_option("--iterations", a.iterations, "Swarm iterations (at least 1)")->capture_default_str();
-  cmd.add_option("--samples", a.samples, "Stretch samples per direction in the swarm (at least 2)")
-      ->capture_default_str();
-  cmd.add_option("--local-samples", a.local_samples, "Stretch samples per direction in the local step (at least 2)")
-      ->capture_default_str();
-  cmd.add_option("--local-evaluations", a.local_evaluations, "The local step's budget of objective evaluations")
-      ->capture_default_str();
-  cmd.add_option("--local-method", a.local_method,
-                 "Local step: implicit-filtering (Gauss-Newton steps on stencil differences whose scale shrinks "
-                 "from 2 % to 0.5 % of every range; robust to the objective's small-scale roughness) or cobyla "
-                 "(the thesis's choice)")
-      ->capture_default_str();
-  cmd.add_option("--seed", a.seed, "Swarm seed (same seed, same result whatever --threads)")->capture_default_str();
+  add_fit_setting_options(cmd, a);
   cmd.add_option("--threads", a.threads, "OpenMP threads evaluating particles (0: OpenMP's default)")
-      ->capture_default_str();
-  cmd.add_option("--compression-nodes", a.compression_nodes,
-                 "Where the zero-orthogonal-stress compression is solved: 0 at every stretch sample; N >= 2 at N "
-                 "samples with linear interpolation between them (2: the thesis's both ends)")
       ->capture_default_str();
   cmd.add_option("--start", a.start,
                  "Skip the swarm and start the local step from these parameters (Y.yaml with yarn_fit.json's params "
                  "keys, or a yarn_fit.json): to refine an earlier fit");
-  cmd.add_flag("--no-swarm", a.no_swarm, "The local step alone from the middle of the bounds (ablation, Fig. 6.11)");
-  cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");
-  cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.17)");
-  cmd.add_flag("--no-profile", a.no_profile,
-               "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "
-               "evaluations per parameter)");
   cmd.add_flag("-q,--quiet", a.quiet, "No progress or summary on the terminal");
   cmd.add_flag("--force", a.force, "Replace existing output files in the folder");
 }

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   add_synth_yarn_command(*app.get_subcommand("synth"), exit_code);
   add_yarn_commands(app, exit_code);
   add_fit_commands(app, *app.get_subcommand("yarn"), exit_code);
+  add_batch_commands(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -20,8 +20,14 @@ std::string option_name(const std::string& field) {
       {"swarm_compression_nodes", "--compression-nodes"},
       {"local_compression_nodes", "--compression-nodes"},
       {"resume", "--resume"},
+      {"jobs", "--jobs"},
+      {"threads_per_job", "--threads-per-job"},
+      {"only", "--only"},
+      {"out", "--out"},
+      {"database", "DB"},
   };
   std::string bare = field;
+  if (bare.rfind("fit.", 0) == 0) bare = bare.substr(4);  // batch::BatchOptions::fit
   for (const char* prefix : {"shell.", "yarn."})
     if (bare.rfind(prefix, 0) == 0) bare = bare.substr(std::string(prefix).size());
   const auto it = options.find(bare);

@@ -32,7 +32,7 @@ PipelineResult run(const db::Fabric& fabric, const PipelineOptions& options, Clo
   result.fabric_folder = fabric.folder;
   result.yarn_settings = options.yarn;
   result.problems = options.problems();
-  result.yarn_problem = yarn_problem(fabric, options, result.problems);
+  if (options.stages == Stages::all) result.yarn_problem = yarn_problem(fabric, options, result.problems);
   if (!result.problems.empty()) {
     result.status = PipelineStatus::invalid_input;
     result.message = "invalid input: nothing was run";
@@ -46,6 +46,11 @@ PipelineResult run(const db::Fabric& fabric, const PipelineOptions& options, Clo
   if (!result.shell->converged()) {
     result.status = PipelineStatus::shell_failed;
     result.message = result.shell->failure();
+    result.seconds_total = seconds_since(start);
+    return result;
+  }
+  if (options.stages == Stages::shell) {
+    result.status = PipelineStatus::ok;
     result.seconds_total = seconds_since(start);
     return result;
   }
@@ -72,9 +77,18 @@ PipelineResult run(const db::Fabric& fabric, const PipelineOptions& options, Clo
 
 }  // namespace
 
+const char* to_string(Stages stages) { return stages == Stages::shell ? "shell" : "all"; }
+
+std::optional<Stages> stages_from_string(std::string_view name) {
+  if (name == "shell") return Stages::shell;
+  if (name == "all") return Stages::all;
+  return std::nullopt;
+}
+
 db::Problems PipelineOptions::problems() const {
   db::Problems out;
   add_prefixed(out, shell.problems(), "shell.");
+  if (stages == Stages::shell) return out;
   calibration::YarnFitSettings checked = yarn;
   if (!start.empty()) checked.swarm = false;  // a start skips the swarm: its settings do not matter
   add_prefixed(out, checked.problems(), "yarn.");
@@ -83,7 +97,7 @@ db::Problems PipelineOptions::problems() const {
 
 db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options) {
   db::Problems problems = options.problems();
-  (void)yarn_problem(fabric, options, problems);
+  if (options.stages == Stages::all) (void)yarn_problem(fabric, options, problems);
   return problems;
 }
 

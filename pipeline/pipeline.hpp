@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -26,7 +27,13 @@
 
 namespace yarnfit::pipeline {
 
+// Which stages run: the shell fit and its uniform targets only, or the whole pipeline.
+enum class Stages { shell, all };
+[[nodiscard]] const char* to_string(Stages stages);  // "shell", "all"
+[[nodiscard]] std::optional<Stages> stages_from_string(std::string_view name);
+
 struct PipelineOptions {
+  Stages stages = Stages::all;
   shell::ShellFitOptions shell;
   calibration::YarnFitSettings yarn;
   // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
@@ -34,7 +41,8 @@ struct PipelineOptions {
   std::filesystem::path start;
 
   // Every invalid field, named "shell.<field>" or "yarn.<field>" (shell::ShellFitOptions,
-  // calibration::YarnFitSettings); empty when both are usable.
+  // calibration::YarnFitSettings; the yarn settings only when the yarn stage runs); empty
+  // when both are usable.
   [[nodiscard]] db::Problems problems() const;
 };
 
@@ -61,10 +69,13 @@ struct PipelineResult {
 };
 
 // Everything run_pipeline would refuse for this fabric: the options' problems, the record's
-// (no pattern, no yarn stiffness, an unusable tile) and the start file's. Fast: no simulation.
+// (no pattern, no yarn stiffness, an unusable tile: only when the yarn stage runs) and the
+// start file's. Fast: no simulation.
 [[nodiscard]] db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options);
 
-// Runs both stages on `fabric`. Never throws for bad input or a failed fit: the status says.
+// Runs the stages on `fabric` (with Stages::shell the result is ok once the shell fit
+// converged, and has no yarn problem or result). Never throws for bad input or a failed fit:
+// the status says.
 PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options);
 // The same on the record in `fabric_folder` (read and validated first; its problems are the
 // result's when it is invalid).

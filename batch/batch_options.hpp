@@ -1,0 +1,66 @@
+#pragma once
+// What `yarnfit batch` is asked to do (SPEC §5, §5a): every fabric of a database, fitted
+// with the same options as `yarnfit fit`, as parallel jobs on this machine or on MPI ranks,
+// its state in the ledger DIR/batch.db and its files in DIR/fabrics/<id>/.
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fabrics_db/problems.hpp"
+#include "pipeline/pipeline.hpp"
+
+namespace yarnfit::batch {
+
+// A running fabric as the progress display shows it.
+struct RunningFabric {
+  std::string fabric_id;
+  std::string stage;   // "shell", "swarm 3/10", "local 40/150", …
+  double seconds = 0;  // since it started
+};
+
+// The batch's state after each change and about once a second.
+struct BatchProgress {
+  int selected = 0;  // fabrics this run is about
+  int done = 0;      // including those done in earlier runs and skipped now
+  int failed = 0;
+  int queued = 0;
+  std::vector<RunningFabric> running;
+  double seconds = 0;        // since this run started
+  double seconds_left = -1;  // estimate from the fabrics finished in this run; < 0 unknown
+};
+using BatchProgressFn = std::function<void(const BatchProgress&)>;
+
+struct BatchOptions {
+  std::filesystem::path database;
+  std::filesystem::path out;
+  int jobs = 1;             // fabrics fitted at once (local mode)
+  int threads_per_job = 2;  // OpenMP threads of each fabric's fit
+  std::string family;                // only this family (empty: all)
+  std::vector<std::string> only;     // only these fabric ids (empty: all)
+  pipeline::PipelineOptions fit;     // stages, shell and yarn settings (threads are set per job)
+  bool retry_failed = false;
+  double heartbeat_interval = 2.0;   // [s] between heartbeats of running jobs
+  // A running job whose heartbeat is older than this [s] belongs to a process that died
+  // (on this host a dead pid is enough).
+  double stale_after = 60.0;
+  BatchProgressFn progress;
+
+  // Every invalid field ("jobs", "threads_per_job", "fit.…"); empty when usable.
+  [[nodiscard]] db::Problems problems() const;
+};
+
+// The options that decide a fabric's results, as JSON (part of each job's hash): the stages,
+// the shell options and the yarn settings, but not threads or jobs, which change the time
+// and not the results.
+[[nodiscard]] nlohmann::json fit_options_json(const pipeline::PipelineOptions& options);
+
+// Where a fabric's files go, and its swarm checkpoint.
+[[nodiscard]] std::filesystem::path fabric_output_folder(const std::filesystem::path& out, const std::string& fabric_id);
+[[nodiscard]] std::filesystem::path swarm_checkpoint_file(const std::filesystem::path& fabric_folder);
+[[nodiscard]] std::filesystem::path ledger_file(const std::filesystem::path& out);
+
+}  // namespace yarnfit::batch

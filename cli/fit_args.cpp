@@ -1,0 +1,65 @@
+#include "cli/fit_args.hpp"
+
+namespace yarnfit::cli {
+
+calibration::YarnFitSettings settings_from(const YarnFitArgs& a, db::Problems& problems) {
+  calibration::YarnFitSettings s;
+  s.particles = a.particles;
+  s.iterations = a.iterations;
+  s.swarm_samples = a.samples;
+  s.local_samples = a.local_samples;
+  s.local_evaluations = a.local_evaluations;
+  if (const auto method = calibration::local_method_from_string(a.local_method)) s.local_method = *method;
+  else problems.add("", 0, "--local-method", a.local_method + ": not a local method (implicit-filtering or cobyla)");
+  s.seed = a.seed;
+  s.threads = a.threads;
+  s.swarm = !a.no_swarm && a.start.empty();
+  s.linear_stretch = a.linear_stretch;
+  s.rest_shape = !a.no_rest_shape;
+  if (a.no_profile) s.profile_step = 0.0;
+  s.swarm_compression_nodes = a.compression_nodes;
+  s.local_compression_nodes = a.compression_nodes;
+  s.checkpoint = a.checkpoint;
+  s.resume = a.resume;
+  return s;
+}
+
+pipeline::PipelineOptions pipeline_options(const YarnFitArgs& a, db::Problems& problems) {
+  pipeline::PipelineOptions o;
+  o.shell.mesh = a.mesh_mm * 1e-3;
+  o.shell.threads = a.threads > 0 ? a.threads : 2;
+  o.yarn = settings_from(a, problems);
+  o.start = a.start;
+  return o;
+}
+
+void add_fit_setting_options(CLI::App& cmd, YarnFitArgs& a) {
+  // Values are checked by the libraries (YarnFitSettings::problems and the options of the
+  // shell stage), so that one run names every invalid option, not only the first.
+  cmd.add_option("--particles", a.particles, "Swarm particles (at least 2)")->capture_default_str();
+  cmd.add_option("--iterations", a.iterations, "Swarm iterations (at least 1)")->capture_default_str();
+  cmd.add_option("--samples", a.samples, "Stretch samples per direction in the swarm (at least 2)")
+      ->capture_default_str();
+  cmd.add_option("--local-samples", a.local_samples, "Stretch samples per direction in the local step (at least 2)")
+      ->capture_default_str();
+  cmd.add_option("--local-evaluations", a.local_evaluations, "The local step's budget of objective evaluations")
+      ->capture_default_str();
+  cmd.add_option("--local-method", a.local_method,
+                 "Local step: implicit-filtering (Gauss-Newton steps on stencil differences whose scale shrinks "
+                 "from 2 % to 0.5 % of every range; robust to the objective's small-scale roughness) or cobyla "
+                 "(the thesis's choice)")
+      ->capture_default_str();
+  cmd.add_option("--seed", a.seed, "Swarm seed (same seed, same result whatever --threads)")->capture_default_str();
+  cmd.add_option("--compression-nodes", a.compression_nodes,
+                 "Where the zero-orthogonal-stress compression is solved: 0 at every stretch sample; N >= 2 at N "
+                 "samples with linear interpolation between them (2: the thesis's both ends)")
+      ->capture_default_str();
+  cmd.add_flag("--no-swarm", a.no_swarm, "The local step alone from the middle of the bounds (ablation, Fig. 6.11)");
+  cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");
+  cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.17)");
+  cmd.add_flag("--no-profile", a.no_profile,
+               "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "
+               "evaluations per parameter)");
+}
+
+}  // namespace yarnfit::cli

@@ -1,0 +1,140 @@
+// The batch's building blocks: SHA-256 against the FIPS 180-4 examples, the ledger's
+// transactions and schema, and job hashes that change with every input they cover and only
+// with those.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cmath>
+#include <limits>
+
+#include "batch/batch_options.hpp"
+#include "batch/fabric_hash.hpp"
+#include "batch/ledger.hpp"
+#include "batch/sha256.hpp"
+#include "tests/example_fabric.hpp"
+#include "tests/test_support.hpp"
+
+namespace yarnfit::testing {
+namespace {
+
+TEST(Sha256, MatchesTheStandardsExamples) {
+  EXPECT_EQ(batch::sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(batch::sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(batch::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  // A million 'a' fed in uneven pieces: block boundaries inside update calls.
+  batch::Sha256 h;
+  const std::string piece(997, 'a');
+  std::size_t left = 1000000;
+  while (left > 0) {
+    const std::size_t n = std::min(left, piece.size());
+    h.update(std::string_view(piece.data(), n));
+    left -= n;
+  }
+  EXPECT_EQ(h.hex_digest(), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+std::string journal_mode(const fs::path& file) {
+  sqlite3* db = nullptr;
+  sqlite3_open_v2(file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* st = nullptr;
+  sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &st, nullptr);
+  std::string mode;
+  if (sqlite3_step(st) == SQLITE_ROW) mode = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return mode;
+}
+
+TEST(Ledger, KeepsJobsResultsAndEventsAcrossReopeningInWalMode) {
+  ScratchDir dir("ledger");
+  const fs::path file = dir / "batch.db";
+  {
+    batch::Ledger ledger(file);
+    batch::JobRow job;
+    job.fabric_id = "A1";
+    job.family = "rib";
+    job.folder = "/db/A1";
+    job.hash = "h1";
+    job.options = "{}";
+    job.status = "queued";
+    ledger.put_job(job, "queued", "h1", 100.0);
+    ledger.start_job("A1", "hostx", 4242, 101.0);
+    ledger.set_stage("A1", "swarm", 102.0);
+    batch::ResultRow row{"A1", "yarn", "rib", std::vector<double>(batch::result_columns().size(),
+                                                                   std::numeric_limits<double>::quiet_NaN()),
+                         R"({"ks1":1.5})"};
+    row.values[1] = 4.25;  // stretch_force_pct
+    ledger.finish_job("A1", true, "", {row}, 110.0);
+  }
+  EXPECT_EQ(journal_mode(file), "wal");
+  const batch::Ledger ledger = batch::Ledger::open_read_only(file);
+  const auto job = ledger.job("A1");
+  ASSERT_TRUE(job);
+  EXPECT_EQ(job->status, "done");
+  EXPECT_EQ(job->attempts, 1);
+  EXPECT_EQ(job->host, "hostx");
+  EXPECT_EQ(job->pid, 4242);
+  EXPECT_EQ(job->started, 101.0);
+  EXPECT_EQ(job->ended, 110.0);
+  EXPECT_TRUE(job->stage.empty());
+  const auto results = ledger.results();
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].values[1], 4.25);
+  EXPECT_TRUE(std::isnan(results[0].values[0]));  // NULL comes back as NaN
+  EXPECT_EQ(results[0].params, R"({"ks1":1.5})");
+  std::vector<std::string> events;
+  for (const auto& e : ledger.events()) events.push_back(e.event);
+  EXPECT_EQ(events, (std::vector<std::string>{"queued", "started", "done"}));
+  EXPECT_THROW(batch::Ledger::open_read_only(dir / "none.db"), batch::LedgerError);
+}
+
+TEST(Ledger, AFailedTransactionLeavesNothingBehind) {
+  ScratchDir dir("ledger-tx");
+  batch::Ledger ledger(dir / "batch.db");
+  batch::JobRow job;
+  job.fabric_id = "A1";
+  job.folder = "/db/A1";
+  job.hash = "h";
+  job.options = "{}";
+  job.status = "bogus";  // violates the CHECK constraint
+  EXPECT_THROW(ledger.put_job(job, "queued", "", 1.0), batch::LedgerError);
+  EXPECT_FALSE(ledger.job("A1"));
+  EXPECT_TRUE(ledger.events().empty());  // the event was in the same transaction
+  job.status = "queued";
+  ledger.put_job(job, "queued", "", 2.0);
+  EXPECT_TRUE(ledger.job("A1"));
+}
+
+TEST(FabricHash, ChangesWithTheRecordItsCurvesAndTheOptionsButNotWithThreads) {
+  ScratchDir dir("hash");
+  const fs::path fabric = dir / "demo";
+  fs::copy(bundled_example_folder(), fabric, fs::copy_options::recursive);
+  pipeline::PipelineOptions o;
+  const auto hash = [&] { return batch::fabric_hash(db::load_fabric(fabric), batch::fit_options_json(o)); };
+  const std::string h0 = hash();
+  EXPECT_EQ(h0.size(), 64u);
+  EXPECT_EQ(hash(), h0);
+  o.shell.threads = 7;
+  o.yarn.threads = 3;
+  EXPECT_EQ(hash(), h0);  // threads change the time, not the results
+  o.yarn.particles = 17;
+  const std::string h1 = hash();
+  EXPECT_NE(h1, h0);
+  o.yarn.particles = pipeline::PipelineOptions{}.yarn.particles;
+  EXPECT_EQ(hash(), h0);
+  // One byte of one curve.
+  const fs::path csv = fabric / "stretch_weft.csv";
+  ASSERT_TRUE(fs::exists(csv)) << csv;
+  std::string text = read_file(csv);
+  text += "\n";
+  write_file(csv, text);
+  const std::string h2 = hash();
+  EXPECT_NE(h2, h0);
+  // The tile, which lives beside the record here.
+  write_file(fabric / "tile.pyp", read_file(fabric / "tile.pyp") + "\n");
+  EXPECT_NE(hash(), h2);
+}
+
+}  // namespace
+}  // namespace yarnfit::testing
