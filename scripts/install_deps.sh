@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libnlopt-cxx-dev libceres-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libsqlite3-dev sqlite3
+  libopenmpi-dev openmpi-bin
   python3
 )
 

@@ -33,9 +33,11 @@ using nlohmann::json;
 
 fs::path stockinette() { return shared_dir() / "data" / "patterns" / "stockinette.pyp"; }
 
-// Small enough for a unit test, large enough that a swarm has iterations to be killed in.
+// Small enough for a unit test, large enough that a swarm has iterations to be killed in. The
+// tile's own rest shape (--no-rest-shape) halves each candidate's time; what is tested is the
+// batch around the fits, which the rest shape does not change.
 const std::string k_small =
-    " --particles 4 --iterations 3 --samples 3 --local-samples 4 --local-evaluations 4 --no-profile"
+    " --particles 3 --iterations 2 --samples 2 --local-samples 3 --local-evaluations 3 --no-profile --no-rest-shape"
     " --threads-per-job 1 --quiet";
 
 const char* const k_good[] = {"knit_a", "knit_b", "knit_c", "shell_d"};
@@ -312,7 +314,7 @@ TEST_F(BatchCli, UnderMpiTheResultsAreTheLocalOnesAlsoAfterAKill) {
     if (running_in_ci()) FAIL() << "this build has no MPI (CI=true: the install script installs OpenMPI)";
     GTEST_SKIP() << "built without MPI";
   }
-  const std::string only = " --only knit_a,knit_b,shell_d";
+  const std::string only = " --only knit_a,shell_d";
   const fs::path local = *s_dir / "local";
   auto r = run_cli(batch(local, only + " --jobs 2"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -343,7 +345,7 @@ TEST_F(BatchCli, UnderMpiTheResultsAreTheLocalOnesAlsoAfterAKill) {
   ASSERT_EQ(again, 0) << read_file(*s_dir / "mpi_again.log");
   expect_same_results(results_of(local), results_of(killed));
   const auto done = done_events(killed);
-  for (const char* id : {"knit_a", "knit_b", "shell_d"}) EXPECT_EQ(done.count(id) ? done.at(id) : 0, 1) << id;
+  for (const char* id : {"knit_a", "shell_d"}) EXPECT_EQ(done.count(id) ? done.at(id) : 0, 1) << id;
 }
 
 TEST_F(BatchCli, BadArgumentsExit2AndASecondBatchOnTheSameFolderIsRefused) {
@@ -356,7 +358,8 @@ TEST_F(BatchCli, BadArgumentsExit2AndASecondBatchOnTheSameFolderIsRefused) {
   EXPECT_TRUE(contains(r.err, "nope: no such fabric")) << r.err;
   r = run_cli("batch status " + quoted(*s_dir / "nowhere"));
   EXPECT_EQ(r.exit_code, 2);
-  // While one batch runs, another on the same folder is refused and changes nothing.
+  // While one batch runs, another on the same folder is refused and changes nothing; SIGTERM
+  // then stops the first: its job goes back to the queue, exit 1.
   const fs::path out = *s_dir / "busy";
   const pid_t pid = start_in_background("", batch(out, " --only knit_c --jobs 1"), *s_dir / "busy.log");
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -365,9 +368,14 @@ TEST_F(BatchCli, BadArgumentsExit2AndASecondBatchOnTheSameFolderIsRefused) {
   r = run_cli(batch(out, " --only knit_c"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(contains(r.err, "another batch is running")) << r.err;
+  ::kill(pid, SIGTERM);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  EXPECT_EQ(WEXITSTATUS(status), 0) << read_file(*s_dir / "busy.log");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << read_file(*s_dir / "busy.log");
+  EXPECT_TRUE(contains(read_file(*s_dir / "busy.log"), "run the same command again")) << read_file(*s_dir / "busy.log");
+  const batch::Ledger ledger = batch::Ledger::open_read_only(batch::ledger_file(out));
+  EXPECT_EQ(ledger.job("knit_c")->status, "queued");
+  EXPECT_EQ(ledger.events().back().event, "interrupted");
 }
 
 }  // namespace
