@@ -83,6 +83,15 @@ std::optional<ResultRow> row_of(const fs::path& file, const std::string& stage, 
 
 }  // namespace
 
+bool StageThrottle::pass(const std::string& stage) {
+  const auto now = std::chrono::steady_clock::now();
+  const bool new_name = stage.substr(0, stage.find(' ')) != m_last.substr(0, m_last.find(' '));
+  if (stage == m_last || (!new_name && now - m_last_time < std::chrono::milliseconds(500))) return false;
+  m_last = stage;
+  m_last_time = now;
+  return true;
+}
+
 JobOutcome run_fabric_job(const JobSpec& spec, const BatchOptions& options, const StageFn& stage) {
   try {
     return run(spec, options, stage);

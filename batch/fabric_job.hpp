@@ -4,6 +4,7 @@
 // swarm checkpointed there after every iteration so that a killed job resumes inside its
 // swarm; and the rows of the results table read back from those files.
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -29,6 +30,17 @@ struct JobOutcome {
 // Called with a short description of what the job does now ("shell in-plane (weft) start
 // 1/3", "swarm 3/10", "local 12/150"), from the thread that runs the stage.
 using StageFn = std::function<void(const std::string& stage)>;
+
+// Which stage reports are worth sending on (a pipe, an MPI message): a new stage at once,
+// steps of the same stage at most every 0.5 s. Not thread-safe: callers serialise.
+class StageThrottle {
+ public:
+  [[nodiscard]] bool pass(const std::string& stage);
+
+ private:
+  std::string m_last;
+  std::chrono::steady_clock::time_point m_last_time{};
+};
 
 // Runs the job. Never throws: every failure is the outcome's.
 JobOutcome run_fabric_job(const JobSpec& spec, const BatchOptions& options, const StageFn& stage);

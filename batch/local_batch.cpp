@@ -75,16 +75,10 @@ void write_all(int fd, const std::string& text) {
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   std::mutex mutex;
-  std::string last;
-  auto last_time = std::chrono::steady_clock::now();
+  StageThrottle throttle;
   const StageFn stage = [&](const std::string& s) {
     const std::lock_guard<std::mutex> guard(mutex);
-    const auto now = std::chrono::steady_clock::now();
-    const bool new_name = s.substr(0, s.find(' ')) != last.substr(0, last.find(' '));
-    if (s == last || (!new_name && now - last_time < std::chrono::milliseconds(500))) return;
-    last = s;
-    last_time = now;
-    write_all(out_fd, json{{"stage", s}}.dump() + "\n");
+    if (throttle.pass(s)) write_all(out_fd, json{{"stage", s}}.dump() + "\n");
   };
   const JobOutcome outcome = run_fabric_job(spec, options, stage);
   write_all(out_fd, json{{"outcome", to_message(outcome)}}.dump() + "\n");

@@ -65,18 +65,11 @@ void worker(const BatchOptions& options) {
     const std::string message = receive(status);
     if (status.MPI_TAG == k_tag_stop) return;
     const JobSpec spec = job_spec_from_message(message);
-    std::string last;
-    auto last_time = std::chrono::steady_clock::now();
+    StageThrottle throttle;
     // Stages from the main thread only (MPI is initialised with MPI_THREAD_FUNNELED).
     const StageFn stage = [&](const std::string& s) {
-      const auto now = std::chrono::steady_clock::now();
-      const bool new_name = s.substr(0, s.find(' ')) != last.substr(0, last.find(' '));
-      if (std::this_thread::get_id() != main_thread || s == last ||
-          (!new_name && now - last_time < std::chrono::milliseconds(500)))
-        return;
-      last = s;
-      last_time = now;
-      send(json{{"fabric_id", spec.fabric_id}, {"stage", s}}.dump(), 0, k_tag_stage);
+      if (std::this_thread::get_id() == main_thread && throttle.pass(s))
+        send(json{{"fabric_id", spec.fabric_id}, {"stage", s}}.dump(), 0, k_tag_stage);
     };
     const JobOutcome outcome = run_fabric_job(spec, options, stage);
     send(json{{"fabric_id", spec.fabric_id}, {"outcome", to_message(outcome)}}.dump(), 0, k_tag_outcome);
