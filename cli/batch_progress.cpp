@@ -1,11 +1,14 @@
 #include "cli/batch_progress.hpp"
 
+#include <cmath>
+
 #include "fabrics_db/text_util.hpp"
 
 namespace yarnfit::cli {
 
 std::string duration_text(double seconds) {
-  if (seconds < 90) return db::format_g(seconds, 2) + " s";
+  if (seconds < 10) return db::format_g(std::round(seconds * 10) / 10, 2) + " s";
+  if (seconds < 90) return std::to_string(static_cast<int>(std::lround(seconds))) + " s";
   if (seconds < 5400) return db::format_g(seconds / 60, 2) + " min";
   return db::format_g(seconds / 3600, 2) + " h";
 }
