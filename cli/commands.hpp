@@ -4,12 +4,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "reports/collection/report_data.hpp"
 
 namespace yarnfit::cli {
 
@@ -30,6 +33,10 @@ void add_yarn_commands(CLI::App& app, int& exit_code);
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code);
 // `batch` and `batch status` (cli/commands_batch.cpp).
 void add_batch_commands(CLI::App& app, int& exit_code);
+// `report` (cli/commands_report.cpp).
+void add_report_command(CLI::App& app, int& exit_code);
+// The line a written report prints: how many fabrics and where to open it.
+void print_report_written(const reports::ReportData& data, const std::filesystem::path& index);
 
 // Runs `write` (a synth command writing a fabric record into `out`) and turns what it throws
 // into the exit code with one line on stderr: invalid settings and an existing record are the

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "batch/batch.hpp"
+#include "batch/batch_report.hpp"
 #include "cli/batch_progress.hpp"
 #include "cli/commands.hpp"
 #include "cli/fit_args.hpp"
@@ -90,6 +91,16 @@ int run_batch_command(const BatchArgs& a) {
     }
   }
   if (s.interrupted) std::cerr << "batch interrupted: run the same command again to continue\n";
+  if (!a.fit.no_report) {
+    // The report of the whole batch folder (every fabric of its ledger, not only this run's).
+    try {
+      const fs::path index = batch::write_batch_report(a.out);
+      if (!a.fit.quiet) std::cout << "report: open " << fs::absolute(index).lexically_normal().string() << "\n";
+    } catch (const std::exception& e) {
+      std::cerr << "batch: the report could not be written: " << e.what() << "\n";
+      return k_exit_internal;
+    }
+  }
   return s.exit_code();
 }
 
@@ -151,6 +162,7 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_fit_setting_options(*b, a->fit);
   b->add_option("--mesh", a->fit.mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
+  b->add_flag("--no-report", a->fit.no_report, "Do not write the HTML report DIR/report/ when the batch ends");
   b->add_flag("--retry-failed", a->retry_failed, "Run the fabrics that failed before again (same hash)");
   b->add_flag("--mpi", a->mpi,
               std::string("Under mpirun: rank 0 keeps the ledger, the other ranks fit") +

@@ -30,10 +30,12 @@
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
+#include "reports/report.hpp"
 
 namespace yarnfit::cli {
 namespace {
 
+namespace fs = std::filesystem;
 
 int refuse(const db::Problems& problems) {
   std::cerr << as_options(problems).to_string();
@@ -82,6 +84,23 @@ int run_yarn_fit(const YarnFitArgs& a) {
 
 // ---------------------------------------------------------------------------- fit (pipeline)
 
+// The one-fabric report's files, under the output folder.
+const std::vector<std::string>& report_files() {
+  static const std::vector<std::string> files{"report/index.html", "report/fabrics.csv", "report/families.csv",
+                                              "report/report.json"};
+  return files;
+}
+
+// DIR/report/ from the files just written (what `yarnfit report DIR` writes).
+bool write_fit_report(const YarnFitArgs& a) {
+  std::vector<reports::RunOutputs> runs{reports::read_fit_folders(a.out)};
+  const reports::ReportData data = reports::make_report_data(std::move(runs));
+  fs::path index;
+  if (!write_files(a.out, [&] { index = reports::write_report(data, fs::path(a.out) / "report"); })) return false;
+  if (!a.quiet) print_report_written(data, index);
+  return true;
+}
+
 int run_fit(const YarnFitArgs& a) {
   db::Problems problems;
   const auto load = db::load_fabric(a.fabric);
@@ -89,6 +108,7 @@ int run_fit(const YarnFitArgs& a) {
   pipeline::PipelineOptions options = pipeline_options(a, problems);
   problems.append(load.ok() ? pipeline::pipeline_problems(*load.fabric, options) : options.problems());
   problems.append(pipeline::output_problems(a.out, pipeline::pipeline_output_files(), a.force));
+  if (!a.no_report) problems.append(pipeline::output_problems(a.out, report_files(), a.force));
   if (!problems.empty()) return refuse(problems);
 
   ProgressDisplay progress = ProgressDisplay::for_stderr(a.quiet);
@@ -100,6 +120,7 @@ int run_fit(const YarnFitArgs& a) {
   pipeline::PipelineOutputs written;
   if (!write_files(a.out, [&] { written = pipeline::write_pipeline_outputs(result, a.out); })) return k_exit_internal;
   if (!a.quiet) print_shell_report(pipeline::shell_fit_json(result), a.out);
+  if (!a.no_report && !write_fit_report(a)) return k_exit_internal;
   if (result.status == pipeline::PipelineStatus::shell_failed) {
     std::cerr << result.message << "\n" << "fit: the shell stage failed; no yarn fit\n";
     return k_exit_internal;
@@ -155,6 +176,7 @@ void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code) {
              "fit on its targets (yarn_fit.json, yarn_curves.csv), and DIR/summary.txt for both");
   add_yarn_fit_options(*f, *fargs);
   f->add_option("--mesh", fargs->mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
+  f->add_flag("--no-report", fargs->no_report, "Do not write the one-fabric HTML report DIR/report/");
   f->callback([fargs, &exit_code] { exit_code = run_fit(*fargs); });
 }
 

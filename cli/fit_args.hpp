@@ -28,6 +28,7 @@ struct YarnFitArgs {
   int compression_nodes = defaults.local_compression_nodes;
   bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false, no_profile = false;
   bool quiet = false, force = false;
+  bool no_report = false;  // `fit` and `batch`: no report/ folder
   // `fit` only: the shell stage.
   double mesh_mm = 5.0;
 };

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev sqlite3
   libopenmpi-dev openmpi-bin
+  chromium
   python3
 )
 

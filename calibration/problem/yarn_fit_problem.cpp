@@ -22,6 +22,7 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
   if (problems.size() != before) return std::nullopt;
   YarnFitProblem problem;
   problem.fabric_id = fabric.id;
+  problem.family = fabric.family;
   problem.scales = {*stiffness, fabric.pattern->facts.r_est};
   const std::string pyp = fabric.pattern->file.string();
   try {
@@ -68,6 +69,7 @@ YarnFitResult fit_yarn(const YarnFitProblem& problem, const YarnFitSettings& set
 nlohmann::json to_json(const YarnFitProblem& problem, const YarnFitResult& result, const YarnFitSettings& settings) {
   nlohmann::json j = to_json(result, settings_for(problem, settings));
   j["fabric"] = problem.fabric_id;
+  j["family"] = problem.family;
   j["targets"] = problem.targets_source;
   return j;
 }

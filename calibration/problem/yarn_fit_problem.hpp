@@ -28,6 +28,7 @@ namespace yarnfit::calibration {
 
 struct YarnFitProblem {
   std::string fabric_id;
+  std::string family;            // the record's family (reports group by it)
   yarn::YarnTile tile;           // weft along x
   yarn::ParameterScales scales;  // ks2 [N], R_est [m]
   std::vector<db::DirectionTargets> targets;

@@ -398,6 +398,8 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
                                     " bending test (held at the geometric mean of the fitted k_theta: " +
                                     format_number(result.params.ktheta[idx(h)]) + " N*m)");
   }
+  for (std::size_t j = 0; j < free.size(); ++j)
+    result.bounds[k_bending_names[free[j]]] = {std::exp(q_lo[j]), std::exp(q_hi[j])};
   for (std::size_t j = 0; j < free.size(); ++j) {
     if (q[j] - q_lo[j] < 1e-3 || q_hi[j] - q[j] < 1e-3) result.at_bounds.push_back(k_bending_names[free[j]]);
   }

@@ -28,6 +28,7 @@
 
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,6 +83,8 @@ struct BendingFitResult {
   int simulations = 0;       // pear-loop runs (each over one test's distances)
   double seconds = 0.0;
   std::vector<std::string> at_bounds;  // parameters that ended on a search bound
+  // The search range of every fitted k_θ, {lower, upper} [N·m] (searched in log space).
+  std::map<std::string, std::pair<double, double>> bounds;
   // Largest curvature per k_θ slot (weft, bias, warp) in the final loops; absent for slots no
   // test measures. Feeds TargetRanges::max_curvature of the uniform targets.
   std::optional<double> max_curvature[3];

@@ -455,6 +455,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   result.converged = summary.IsSolutionUsable() && final_ok &&
                      summary.termination_type == ceres::CONVERGENCE;
   result.message = final_ok ? summary.BriefReport() : "final evaluation failed: a scene did not reach equilibrium";
+  for (int i : free) result.bounds[k_inplane_names[i]] = {1e-4 * scale, 1e4 * scale};
   for (int j = 0; j < static_cast<int>(free.size()); ++j) {
     const double lo = std::log(1e-4 * scale), hi = std::log(1e4 * scale);
     if (q[static_cast<std::size_t>(j)] - lo < 1e-3 || hi - q[static_cast<std::size_t>(j)] < 1e-3)

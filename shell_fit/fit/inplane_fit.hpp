@@ -23,6 +23,7 @@
 
 #include <functional>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,8 @@ struct InplaneFitResult {
   int simulations = 0;
   double seconds = 0.0;
   std::vector<std::string> at_bounds;  // parameters that ended on a search bound
+  // The search range of every fitted parameter, {lower, upper} [N/m] (searched in log space).
+  std::map<std::string, std::pair<double, double>> bounds;
   // How well the tests pin each parameter: the standard deviation of log p [as %] that 1 %
   // noise in every normalised residual would cause, √((JᵀJ)⁻¹_kk)·1 %, from the Jacobian at
   // the solution. Order kxx kxy kyy kss kn1 kn2; 0 for parameters held at a prior.

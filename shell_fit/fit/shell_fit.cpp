@@ -33,6 +33,7 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
     throw std::invalid_argument("shell fit options:\n" + problems.to_string());
   ShellFitResult result;
   result.fabric_id = fabric.id;
+  result.family = fabric.family;
   result.has_bending_tests = !fabric.bending_tests.empty();
 
   InplaneFitOptions inplane;
@@ -76,6 +77,7 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
 nlohmann::json to_json(const ShellFitResult& r) {
   nlohmann::json report = inplane_fit_json(r.inplane);
   report["fabric"] = r.fabric_id;
+  report["family"] = r.family;
   report["effects"] = r.effects;
   for (const char* k : k_bending_names) report["params"][k] = nullptr;
   report["errors"]["bending_pct"] = nullptr;
@@ -91,6 +93,14 @@ nlohmann::json to_json(const ShellFitResult& r) {
     for (const auto& s : b.identified) report["identified"].push_back(s);
     for (const auto& s : b.not_identified) report["not_identified"].push_back(s);
     for (const auto& s : b.at_bounds) report["at_bounds"].push_back(s);
+    const nlohmann::json bending_bounds = bounds_json(b.bounds);
+    for (const auto& [name, range] : bending_bounds.items()) report["bounds"][name] = range;
+    nlohmann::json curves = nlohmann::json::array();
+    for (const auto& d : b.directions)
+      curves.push_back({{"direction", std::string(db::to_string(d.direction))},
+                        {"clamp_distance_m", d.clamp_distance},
+                        {"measured_aspect_ratio", d.measured_aspect_ratio},
+                        {"simulated_aspect_ratio", d.simulated_aspect_ratio}});
     if (!b.errors_reason.empty()) bending_reason = "bending: " + b.errors_reason;
     report["bending"] = {{"converged", b.converged},
                          {"message", b.message},
@@ -98,6 +108,7 @@ nlohmann::json to_json(const ShellFitResult& r) {
                          {"simulations", b.simulations},
                          {"timing_s", b.seconds},
                          {"at_bounds", b.at_bounds},
+                         {"curves", curves},
                          {"not_identified", b.not_identified},
                          {"fallback_starts", b.fallback_starts},
                          {"errors_reason", b.errors_reason.empty() ? nlohmann::json() : nlohmann::json(b.errors_reason)}};

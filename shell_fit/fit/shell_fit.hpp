@@ -47,6 +47,7 @@ struct ShellFitOptions {
 
 struct ShellFitResult {
   std::string fabric_id;
+  std::string family;  // the record's family (reports group by it)
   bool has_bending_tests = false;  // false: k_θ not fitted, and not identified
   InplaneFitResult inplane;
   // Set when the fabric has bending tests and the in-plane fit converged.

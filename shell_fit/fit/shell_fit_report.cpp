@@ -50,6 +50,7 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
           {"identified", fit.identified},
           {"not_identified", fit.not_identified},
           {"at_bounds", fit.at_bounds},
+          {"bounds", bounds_json(fit.bounds)},
           {"weakly_identified", fit.weakly_identified},
           {"sensitivity_pct_per_pct_noise",
            {{"kxx", fit.sensitivity_pct[0]}, {"kxy", fit.sensitivity_pct[1]}, {"kyy", fit.sensitivity_pct[2]},
@@ -61,6 +62,12 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
           {"simulations", fit.simulations},
           {"directions", directions},
           {"timing_s", fit.seconds}};
+}
+
+nlohmann::json bounds_json(const std::map<std::string, std::pair<double, double>>& bounds) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, range] : bounds) j[name] = {{"lower", range.first}, {"upper", range.second}, {"log", true}};
+  return j;
 }
 
 }  // namespace yarnfit::shell

@@ -1,5 +1,5 @@
-// The bundled example is the project's own work: regenerating it reproduces the committed
-// files byte for byte, and it validates and describes cleanly.
+// The bundled example database is the project's own work: regenerating it reproduces the
+// committed files byte for byte, and it validates and describes cleanly.
 #include <nlohmann/json.hpp>
 
 #include <sstream>
@@ -15,18 +15,28 @@ const fs::path k_example = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stoc
 
 TEST(Example, RegeneratingReproducesTheCommittedFiles) {
   ScratchDir dir("example");
-  const std::string cmd = quoted(YARNFIT_MAKE_EXAMPLE) + " " + quoted(dir / "demo") + " >/dev/null";
+  const std::string cmd = quoted(YARNFIT_MAKE_EXAMPLE) + " --all " + quoted(dir / "db") + " >/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
-  std::size_t compared = 0;
-  for (const auto& e : fs::directory_iterator(k_example)) {
-    const fs::path regenerated = dir / "demo" / e.path().filename();
-    ASSERT_TRUE(fs::exists(regenerated)) << e.path();
-    EXPECT_EQ(read_file(e.path()), read_file(regenerated)) << e.path();
-    ++compared;
+  const fs::path committed = k_example.parent_path();
+  std::size_t compared = 0, fabrics = 0;
+  for (const auto& fabric : fs::directory_iterator(committed)) {
+    ++fabrics;
+    const fs::path regenerated = dir / "db" / fabric.path().filename();
+    ASSERT_TRUE(fs::is_directory(regenerated)) << fabric.path();
+    for (const auto& e : fs::directory_iterator(fabric.path())) {
+      ASSERT_TRUE(fs::exists(regenerated / e.path().filename())) << e.path();
+      EXPECT_EQ(read_file(e.path()), read_file(regenerated / e.path().filename())) << e.path();
+      ++compared;
+    }
+    EXPECT_EQ(std::distance(fs::directory_iterator(fabric.path()), fs::directory_iterator{}),
+              std::distance(fs::directory_iterator(regenerated), fs::directory_iterator{}))
+        << fabric.path();
   }
-  EXPECT_EQ(compared, 8u);  // fabric.yaml, tile.pyp, 3 stretch and 3 bending curves
-  EXPECT_EQ(static_cast<std::size_t>(std::distance(fs::directory_iterator(dir / "demo"),
-                                                   fs::directory_iterator{})), compared);
+  EXPECT_EQ(fabrics, 3u);
+  EXPECT_EQ(static_cast<std::size_t>(std::distance(fs::directory_iterator(dir / "db"), fs::directory_iterator{})), fabrics);
+  // stockinette_demo and interlock_demo: fabric.yaml, tile.pyp, 3 stretch and 3 bending curves;
+  // stockinette_light: fabric.yaml, tile.pyp, weft and warp stretch curves.
+  EXPECT_EQ(compared, 8u + 8u + 4u);
 }
 
 TEST(Example, ValidatesAndDescribesItsTile) {

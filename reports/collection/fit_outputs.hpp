@@ -1,0 +1,42 @@
+#pragma once
+// What a report reads: the output folders of `yarnfit fit` (shell_fit.json, yarn_fit.json),
+// one run at a time. A run is one batch output (its ledger says which fabrics failed and why;
+// batch/batch_report.hpp reads it) or a folder of `fit` outputs. The JSON is kept as written
+// (SPEC §5 names), so a report needs none of the fit types.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace yarnfit::reports {
+
+struct FabricOutputs {
+  std::string id;
+  std::string family;
+  std::filesystem::path folder;
+  // done, failed, running or queued (a batch's ledger), or from the files: failed when a stage
+  // that ran did not converge, done otherwise.
+  std::string status = "done";
+  std::string error;    // why it failed
+  nlohmann::json shell;  // shell_fit.json, or null
+  nlohmann::json yarn;   // yarn_fit.json, or null
+};
+
+struct RunOutputs {
+  std::string label;                   // how the report names the run (the folder's name)
+  std::filesystem::path source;        // the folder given
+  std::vector<FabricOutputs> fabrics;  // in id order
+  std::vector<std::string> problems;   // files that could not be read (the run goes on)
+};
+
+// One fabric's folder of `fit` outputs; `problems` gets one line per unreadable file. The id
+// and family come from the JSON (`fabric`, `family`), else the folder's name and "".
+FabricOutputs read_fit_outputs(const std::filesystem::path& folder, std::vector<std::string>& problems);
+
+// A folder of `fit` outputs, or a folder whose sub-folders are (each holding shell_fit.json).
+// Throws std::invalid_argument when it is neither.
+RunOutputs read_fit_folders(const std::filesystem::path& dir);
+
+}  // namespace yarnfit::reports

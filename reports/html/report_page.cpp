@@ -1,0 +1,562 @@
+#include "reports/html/report_page.hpp"
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "reports/html/svg_plot.hpp"
+#include "reports/metrics/error_metrics.hpp"
+
+namespace yarnfit::reports {
+
+using nlohmann::json;
+using svg::escape;
+using svg::number_label;
+
+namespace {
+
+const char* const k_css = R"(
+body{font-family:"DejaVu Sans",Arial,sans-serif;font-size:14px;color:#222;max-width:1180px;margin:20px auto;padding:0 16px;background:#fafafa}
+h1{font-size:24px;margin:0 0 4px} h2{font-size:19px;margin:28px 0 8px;border-bottom:2px solid #ccc;padding-bottom:3px}
+h3{font-size:16px;margin:18px 0 6px} .meta{color:#666} .note{fill:#777;font-size:12px;font-style:italic}
+p.note{color:#666;font-size:12px;font-style:italic}
+table{border-collapse:collapse;margin:6px 0 12px;background:#fff} th,td{border:1px solid #ccc;padding:3px 7px;text-align:right}
+th{background:#eef2f5} td.l,th.l{text-align:left} tr.failed td{background:#fde9e2}
+.good{background:#dcebd5} .bad{background:#fbe3d6} .fail{color:#a33;font-weight:bold}
+section.fabric{border:1px solid #ddd;background:#fff;padding:8px 14px 14px;margin:14px 0;border-radius:4px}
+.plots{display:flex;flex-wrap:wrap;gap:10px;align-items:flex-start}
+svg.plot{background:#fff;border:1px solid #e2e2e2}
+svg text{font-family:"DejaVu Sans",Arial,sans-serif;font-size:11px;fill:#222}
+svg text.plot-title{font-size:13px;font-weight:bold} svg text.axis-label{font-size:12px}
+svg text.group-label{font-weight:bold;font-size:12px} svg text.flag{fill:#D55E00;font-weight:bold}
+svg text.tick{fill:#444;font-size:10px}
+ul.toc{columns:4;font-size:13px} code{font-size:12px}
+div.families{display:flex;flex-wrap:wrap;gap:4px 28px;align-items:flex-start} div.family p.note{max-width:420px}
+)";
+
+const std::string& direction_colour(const std::string& d) {
+  static const std::map<std::string, std::string> c{{"weft", "#0072B2"}, {"bias", "#009E73"}, {"warp", "#D55E00"}};
+  static const std::string other = "#000000";
+  const auto it = c.find(d);
+  return it == c.end() ? other : it->second;
+}
+
+std::string pct_cell(double v, bool shade = true) {
+  if (!std::isfinite(v)) return "<td>–</td>";
+  std::ostringstream s;
+  s << "<td" << (shade ? (v <= k_good_fit_pct ? " class=\"good\"" : " class=\"bad\"") : "") << ">"
+    << number_label(v) << "</td>";
+  return s.str();
+}
+
+std::string seconds_text(double s) {
+  if (!std::isfinite(s)) return "–";
+  std::ostringstream o;
+  if (s < 60) o << number_label(s) << " s";
+  else if (s < 3600) o << number_label(s / 60) << " min";
+  else o << number_label(s / 3600) << " h";
+  return o.str();
+}
+
+std::string anchor(const std::string& id) {
+  std::string a = "fabric-";
+  for (char c : id) a += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
+  return a;
+}
+
+std::vector<double> numbers(const json& j, const char* key, double scale = 1.0) {
+  std::vector<double> v;
+  if (!j.is_object() || !j.contains(key) || !j[key].is_array()) return v;
+  for (const auto& x : j[key]) v.push_back(x.is_number() ? x.get<double>() * scale : k_nan);
+  return v;
+}
+
+std::string attrs(const std::string& plot, const std::string& key = "", const std::string& value = "") {
+  std::string a = "class=\"plot\" data-plot=\"" + plot + "\"";
+  if (!key.empty()) a += " data-" + key + "=\"" + escape(value) + "\"";
+  return a;
+}
+
+// The colour of each family, in the order of the report.
+std::map<std::string, std::string> family_colours(const ReportData& d) {
+  std::map<std::string, std::string> c;
+  for (std::size_t i = 0; i < d.families.size(); ++i)
+    c[d.families[i].family] = svg::palette()[i % svg::palette().size()];
+  return c;
+}
+
+std::vector<std::size_t> metric_indices(const char* stage, bool with_bending_shell = true) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < k_metrics.size(); ++i)
+    if (std::string_view(k_metrics[i].stage) == stage &&
+        (with_bending_shell || std::string_view(k_metrics[i].key) != "shell_aspect_ratio_pct"))
+      out.push_back(i);
+  return out;
+}
+
+// ---- summary ---------------------------------------------------------------------------
+
+void summary(std::ostringstream& h, const ReportData& d) {
+  int done = 0, failed = 0, other = 0;
+  for (const auto& r : d.fabrics) (r.status == "done" ? done : r.status == "failed" ? failed : other)++;
+  h << "<h2 id=\"summary\">Summary</h2><p>" << d.fabrics.size() << " fabrics in " << d.families.size()
+    << " famil" << (d.families.size() == 1 ? "y" : "ies") << ": <b>" << done << " fitted</b>, <b"
+    << (failed ? " class=\"fail\"" : "") << ">" << failed << " failed</b>"
+    << (other ? ", " + std::to_string(other) + " not finished (running or queued)" : std::string()) << ". "
+    << "Errors are the thesis's (Fig. 6.13, 6.15): shell figures are the mean absolute error over the "
+       "mean absolute measured value; yarn figures the mean absolute error over the largest target in "
+       "the comfort range; green cells are within "
+    << number_label(k_good_fit_pct) << " %.</p>";
+  h << "<table><tr><th class=\"l\">run</th><th class=\"l\">source</th><th>fabrics</th><th>done</th><th>failed</th>"
+       "<th>fit time</th></tr>";
+  for (const auto& r : d.run_summaries)
+    h << "<tr><td class=\"l\">" << escape(r.label) << "</td><td class=\"l\"><code>" << escape(r.source)
+      << "</code></td><td>" << r.fabrics << "</td><td>" << r.done << "</td><td>" << r.failed << "</td><td>"
+      << seconds_text(r.seconds) << "</td></tr>";
+  h << "</table>";
+  h << "<table><tr><th class=\"l\">family</th><th>fabrics</th><th>failed</th><th>with yarn stage</th></tr>";
+  for (const auto& f : d.families) {
+    int yarn = 0;
+    for (const auto& r : d.fabrics)
+      if (r.family == f.family && r.has_yarn()) ++yarn;
+    h << "<tr><td class=\"l\">" << escape(family_name(f.family)) << "</td><td>" << f.fabrics << "</td><td>" << f.failed
+      << "</td><td>" << yarn << "</td></tr>";
+  }
+  h << "</table>";
+  bool any_failed = false;
+  for (const auto& r : d.fabrics)
+    if (r.status != "done") any_failed = true;
+  if (any_failed) {
+    h << "<h3>Not fitted</h3><table><tr><th class=\"l\">fabric</th><th class=\"l\">family</th><th "
+         "class=\"l\">status</th><th class=\"l\">reason</th></tr>";
+    for (const auto& r : d.fabrics)
+      if (r.status != "done")
+        h << "<tr class=\"failed\"><td class=\"l\"><a href=\"#" << anchor(r.id) << "\">" << escape(r.id)
+          << "</a></td><td class=\"l\">" << escape(family_name(r.family)) << "</td><td class=\"l\">" << escape(r.status)
+          << "</td><td class=\"l\">" << escape(r.error.empty() ? "(no reason recorded)" : r.error) << "</td></tr>";
+    h << "</table>";
+  }
+  // Time per stage over the fabrics of the report.
+  h << "<h3>Time per stage</h3><table><tr><th class=\"l\">stage</th><th>fabrics</th><th>total</th><th>mean</th>"
+       "<th>longest</th></tr>";
+  for (std::size_t i = 0; i < k_times.size(); ++i) {
+    double sum = 0, longest = 0;
+    int n = 0;
+    for (const auto& r : d.fabrics)
+      if (std::isfinite(r.times[i])) sum += r.times[i], longest = std::max(longest, r.times[i]), ++n;
+    if (n == 0) continue;
+    h << "<tr><td class=\"l\">" << k_times[i].label << "</td><td>" << n << "</td><td>" << seconds_text(sum)
+      << "</td><td>" << seconds_text(sum / n) << "</td><td>" << seconds_text(longest) << "</td></tr>";
+  }
+  h << "</table>";
+  if (!d.problems.empty()) {
+    h << "<h3>Files left out</h3><ul>";
+    for (const auto& p : d.problems) h << "<li>" << escape(p) << "</li>";
+    h << "</ul>";
+  }
+}
+
+// ---- families --------------------------------------------------------------------------
+
+void family_tables(std::ostringstream& h, const ReportData& d) {
+  h << "<h2 id=\"families\">Errors per family</h2><p class=\"note\">Mean ± standard deviation (over n − 1; "
+       "none for one fabric), min and max over the fabrics with a figure, and how many are within "
+    << number_label(k_good_fit_pct) << " % (cf. the thesis's Table 6.1).</p>";
+  h << "<div class=\"families\">";
+  for (const auto& f : d.families) {
+    h << "<div class=\"family\"><h3>" << escape(family_name(f.family)) << " <span class=\"meta\">(" << f.fabrics << " fabric"
+      << (f.fabrics == 1 ? "" : "s") << (f.failed ? ", " + std::to_string(f.failed) + " failed" : std::string())
+      << ")</span></h3>";
+    h << "<table class=\"family-table\" data-family=\"" << escape(f.family)
+      << "\"><tr><th class=\"l\">stage</th><th class=\"l\">error [%]</th><th>n</th><th>mean ± sd</th><th>min</th>"
+         "<th>max</th><th>≤ "
+      << number_label(k_good_fit_pct) << " %</th></tr>";
+    // Metrics no fabric of the family has (no pear-loop tests, no yarn stage) are named below
+    // the table instead of filling it with empty rows.
+    std::vector<std::string> none;
+    for (std::size_t i = 0; i < k_metrics.size(); ++i) {
+      const MetricStats& s = f.metrics[i];
+      if (s.n == 0) {
+        none.push_back(std::string(k_metrics[i].stage) + " " + k_metrics[i].label);
+        continue;
+      }
+      h << "<tr><td class=\"l\">" << k_metrics[i].stage << "</td><td class=\"l\">" << k_metrics[i].label << "</td><td>"
+        << s.n << "</td>";
+      h << "<td>" << number_label(s.mean) << (std::isfinite(s.sd) ? " ± " + number_label(s.sd) : std::string())
+        << "</td><td>" << number_label(s.min) << "</td><td>" << number_label(s.max) << "</td><td>" << s.within << " of "
+        << s.n << "</td></tr>";
+    }
+    h << "</table>";
+    if (!none.empty()) {
+      h << "<p class=\"note\">No figure (not measured or not run): ";
+      for (std::size_t k = 0; k < none.size(); ++k) h << (k ? ", " : "") << escape(none[k]);
+      h << ".</p>";
+    }
+    h << "</div>";
+  }
+  h << "</div>";
+}
+
+svg::DotRow dot_row(const FabricRow& r, const std::vector<std::size_t>& metrics, const std::string& colour) {
+  svg::DotRow row{r.id + (r.status == "done" ? "" : " (" + r.status + ")"), family_name(r.family), colour, {}};
+  for (std::size_t i : metrics) row.values.push_back(r.metrics[i]);
+  return row;
+}
+
+void overview_plots(std::ostringstream& h, const ReportData& d) {
+  const auto colours = family_colours(d);
+  h << "<h2 id=\"overview\">Errors per fabric</h2><div class=\"plots\">";
+  const auto plot = [&](const char* stage, const char* title, const char* name) {
+    svg::DotPlot p;
+    p.title = title;
+    p.x_label = "error [%]  (shaded: ≤ " + number_label(k_good_fit_pct) + " %)";
+    const auto idx = metric_indices(stage);
+    for (std::size_t i : idx) p.metrics.push_back(k_metrics[i].label);
+    std::set<std::string> shown;
+    for (const auto& r : d.fabrics)
+      if (std::string_view(stage) == "shell" || r.has_yarn()) {
+        p.rows.push_back(dot_row(r, idx, colours.at(r.family)));
+        shown.insert(r.family);
+      }
+    for (const auto& f : d.families)
+      if (shown.count(f.family)) p.group_legend.emplace_back(family_name(f.family), colours.at(f.family));
+    p.attributes = attrs("overview", "stage", name);
+    h << svg::render(p);
+  };
+  plot("shell", "Shell errors (cf. Fig. 6.13): marker = metric, colour = family", "shell");
+  if (d.has_yarn()) plot("yarn", "Yarn errors (cf. Fig. 6.15): marker = metric, colour = family", "yarn");
+  h << "</div>";
+}
+
+void family_plots(std::ostringstream& h, const ReportData& d) {
+  h << "<h2 id=\"family-plots\">Each family</h2><div class=\"plots\">";
+  for (const auto& f : d.families) {
+    svg::DotPlot p;
+    p.title = family_name(f.family) + ": every error, marker and colour = metric";
+    p.x_label = "error [%]  (shaded: ≤ " + number_label(k_good_fit_pct) + " %)";
+    // The metrics some fabric of the family has (always the shell force, so that a family of
+    // failed fabrics still gets its plot).
+    std::vector<std::size_t> idx;
+    for (std::size_t i = 0; i < k_metrics.size(); ++i)
+      if (f.metrics[i].n > 0 || i == 0) idx.push_back(i);
+    for (std::size_t i : idx) p.metrics.push_back(std::string(k_metrics[i].stage) + " " + k_metrics[i].label);
+    for (const auto& r : d.fabrics)
+      if (r.family == f.family) p.rows.push_back(dot_row(r, idx, ""));
+    for (auto& r : p.rows) r.group.clear();
+    p.width = 560;
+    p.attributes = attrs("family", "family", f.family);
+    h << svg::render(p);
+  }
+  h << "</div>";
+}
+
+// ---- what accuracy costs ----------------------------------------------------------------
+
+void cost_section(std::ostringstream& h, const ReportData& d) {
+  std::vector<std::string> compared;
+  for (const auto& [id, rows] : d.by_run)
+    if (rows.size() >= 2) compared.push_back(id);
+  h << "<h2 id=\"cost\">What accuracy costs</h2>";
+  if (compared.empty()) {
+    h << "<p class=\"note\">One run per fabric: give `yarnfit report` several runs over the same fabrics (for "
+         "example two batches with different swarm settings) to compare their errors and times here.</p>";
+    return;
+  }
+  std::vector<std::string> runs;
+  for (const auto& r : d.run_summaries) runs.push_back(r.label);
+  h << "<p>Each fabric in several runs: its headline error (yarn comfort-range stress where the yarn stage ran, "
+       "else shell force) and its fit time.</p><table><tr><th class=\"l\">fabric</th>";
+  for (const auto& r : runs) h << "<th>" << escape(r) << " error [%]</th><th>" << escape(r) << " time</th>";
+  h << "</tr>";
+  for (const auto& id : compared) {
+    h << "<tr><td class=\"l\">" << escape(id) << "</td>";
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const FabricRow* row = nullptr;
+      for (const auto& r : d.by_run.at(id))
+        if (r.run_index == static_cast<int>(k)) row = &r;
+      if (!row) h << "<td>–</td><td>–</td>";
+      else h << pct_cell(row->headline_pct()) << "<td>" << seconds_text(row->times[6]) << "</td>";
+    }
+    h << "</tr>";
+  }
+  h << "</table>";
+  svg::XYPlot p;
+  p.title = "Error against fit time, one marker per fabric and run";
+  p.x_label = "fit time [s]";
+  p.y_label = "headline error [%]";
+  p.x_log = true;
+  p.width = 620;
+  p.height = 340;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    svg::Series s;
+    s.label = runs[k];
+    s.colour = svg::palette()[k % svg::palette().size()];
+    s.line = false;
+    s.markers = true;
+    s.marker = svg::marker_for(k);
+    for (const auto& id : compared)
+      for (const auto& r : d.by_run.at(id))
+        if (r.run_index == static_cast<int>(k)) s.x.push_back(r.times[6]), s.y.push_back(r.headline_pct());
+    p.series.push_back(s);
+  }
+  p.attributes = attrs("cost");
+  h << svg::render(p);
+}
+
+// ---- one fabric -------------------------------------------------------------------------
+
+void shell_plots(std::ostringstream& h, const FabricRow& r) {
+  const json& s = r.outputs->shell;
+  if (!s.contains("directions")) return;
+  svg::XYPlot force, comp;
+  force.title = "Stretch test: force";
+  force.x_label = "stretch s [%]";
+  force.y_label = "force [N]";
+  comp.title = "Stretch test: lateral compression";
+  comp.x_label = "stretch s [%]";
+  comp.y_label = "compression c [%]";
+  for (const auto& d : s["directions"]) {
+    const std::string dir = d.value("direction", std::string("?"));
+    const auto x = numbers(d, "stretch", 100.0);
+    for (auto [plot, key, scale] : {std::tuple{&force, "force_N", 1.0}, std::tuple{&comp, "compression", 100.0}}) {
+      svg::Series meas{dir + " measured", x, numbers(d, (std::string("measured_") + key).c_str(), scale),
+                       direction_colour(dir), false, true, svg::Marker::circle};
+      svg::Series sim{dir + " shell model", x, numbers(d, (std::string("simulated_") + key).c_str(), scale),
+                      direction_colour(dir), true, false};
+      if (!meas.y.empty()) plot->series.push_back(meas);
+      if (!sim.y.empty()) plot->series.push_back(sim);
+    }
+  }
+  force.attributes = attrs("fabric-shell-force", "fabric", r.id);
+  comp.attributes = attrs("fabric-shell-compression", "fabric", r.id);
+  h << svg::render(force);
+  if (!comp.series.empty()) h << svg::render(comp);
+  if (s.contains("bending") && s["bending"].contains("curves")) {
+    svg::XYPlot b;
+    b.title = "Pear loop: aspect ratio";
+    b.x_label = "clamp distance [mm]";
+    b.y_label = "aspect ratio [–]";
+    b.y_from_zero = false;
+    for (const auto& d : s["bending"]["curves"]) {
+      const std::string dir = d.value("direction", std::string("?"));
+      const auto x = numbers(d, "clamp_distance_m", 1e3);
+      b.series.push_back({dir + " measured", x, numbers(d, "measured_aspect_ratio"), direction_colour(dir), false, true});
+      b.series.push_back({dir + " shell model", x, numbers(d, "simulated_aspect_ratio"), direction_colour(dir), true, false});
+    }
+    b.attributes = attrs("fabric-shell-bending", "fabric", r.id);
+    h << svg::render(b);
+  }
+}
+
+void yarn_plots(std::ostringstream& h, const FabricRow& r) {
+  const json& y = r.outputs->yarn;
+  if (!y.contains("curves")) return;
+  svg::XYPlot st, comp;
+  st.title = "Uniform targets: stress";
+  st.x_label = "stretch s [%]";
+  st.y_label = "2nd Piola–Kirchhoff stress S [N/m]";
+  comp.title = "Uniform targets: compression";
+  comp.x_label = "stretch s [%]";
+  comp.y_label = "compression c [%]";
+  for (const auto& d : y["curves"]) {
+    const std::string dir = d.value("direction", std::string("?"));
+    const auto x = numbers(d, "stretch", 100.0);
+    st.series.push_back({dir + " target", x, numbers(d, "target_S_N_per_m"), direction_colour(dir), false, true});
+    st.series.push_back({dir + " yarn model", x, numbers(d, "simulated_S_N_per_m"), direction_colour(dir), true, false});
+    comp.series.push_back(
+        {dir + " target", x, numbers(d, "target_compression", 100.0), direction_colour(dir), false, true});
+    comp.series.push_back(
+        {dir + " yarn model", x, numbers(d, "simulated_compression", 100.0), direction_colour(dir), true, false});
+    if (y.contains("errors_by_direction") && y["errors_by_direction"].contains(dir)) {
+      const double c = number_or_nan(y["errors_by_direction"][dir].value("comfort_stretch", json()));
+      const std::string label = dir + " end of comfort range";
+      st.marks.push_back({100.0 * c, direction_colour(dir), label});
+      comp.marks.push_back({100.0 * c, direction_colour(dir), ""});
+    }
+  }
+  st.attributes = attrs("fabric-yarn-stress", "fabric", r.id);
+  comp.attributes = attrs("fabric-yarn-compression", "fabric", r.id);
+  h << svg::render(st) << svg::render(comp);
+}
+
+std::set<std::string> strings(const json& j, const char* key) {
+  std::set<std::string> out;
+  if (j.is_object() && j.contains(key) && j[key].is_array())
+    for (const auto& s : j[key])
+      if (s.is_string()) out.insert(s.get<std::string>());
+  return out;
+}
+
+void parameter_plot(std::ostringstream& h, const FabricRow& r) {
+  svg::BoundsPlot p;
+  p.title = "Fitted parameters on their search range (log axes unless stated)";
+  std::vector<std::string> fixed;
+  for (std::size_t i = 0; i < k_params.size(); ++i) {
+    const json& stage = std::string_view(k_params[i].stage) == "shell" ? r.outputs->shell : r.outputs->yarn;
+    if (!stage.is_object() || !std::isfinite(r.params[i])) continue;
+    const std::string name = k_params[i].key;
+    const json bounds = stage.contains("bounds") && stage["bounds"].contains(name) ? stage["bounds"][name] : json();
+    if (bounds.is_null()) {
+      fixed.push_back(name + " = " + number_label(r.params[i]) + " " + k_params[i].unit);
+      continue;
+    }
+    svg::BoundedValue v;
+    v.name = name;
+    v.unit = k_params[i].unit;
+    v.value = r.params[i];
+    v.lower = number_or_nan(bounds.value("lower", json()));
+    v.upper = number_or_nan(bounds.value("upper", json()));
+    v.log = bounds.value("log", true);
+    if (!v.log) v.name += " (linear)";
+    v.on_bound = strings(stage, "on_bound").count(name) + strings(stage, "at_bounds").count(name) > 0;
+    if (stage.contains("identifiability") && stage["identifiability"].contains("parameters") &&
+        stage["identifiability"]["parameters"].contains(name)) {
+      const json& e = stage["identifiability"]["parameters"][name];
+      const bool free = e.value("free", false);
+      v.range_refit = free ? std::numeric_limits<double>::infinity() : number_or_nan(e.value("range_factor", json()));
+      v.range_held = number_or_nan(e.value("range_alone_factor", json()));
+    }
+    p.values.push_back(v);
+  }
+  if (!p.values.empty()) {
+    p.attributes = attrs("fabric-parameters", "fabric", r.id);
+    h << svg::render(p);
+  }
+  if (!fixed.empty()) {
+    h << "<p class=\"note\">Not searched (held or fixed): ";
+    for (std::size_t i = 0; i < fixed.size(); ++i) h << (i ? "; " : "") << escape(fixed[i]);
+    h << ".</p>";
+  }
+}
+
+void list_json(std::ostringstream& h, const json& j) {
+  if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) h << (i ? ", " : "") << escape(j[i].is_string() ? j[i].get<std::string>() : j[i].dump());
+  } else if (j.is_object()) {
+    bool first = true;
+    for (const auto& [k, v] : j.items()) {
+      h << (first ? "" : "; ") << "<b>" << escape(k) << "</b>: ";
+      list_json(h, v);
+      first = false;
+    }
+  }
+}
+
+void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs) {
+  h << "<section class=\"fabric\" id=\"" << anchor(r.id) << "\" data-fabric=\"" << escape(r.id) << "\"><h3>"
+    << escape(r.id) << " <span class=\"meta\">family " << escape(family_name(r.family))
+    << (runs > 1 ? ", run " + escape(r.run) : std::string()) << ", " << escape(r.status) << "</span></h3>";
+  if (!r.error.empty()) h << "<p class=\"fail\">" << escape(r.error) << "</p>";
+  // The fabric's plot: its errors against the band (a row per stage).
+  svg::DotPlot p;
+  p.x_label = "error [%]";
+  p.width = 560;
+  for (const char* stage : {"shell", "yarn"}) {
+    const auto idx = metric_indices(stage);
+    if (std::string_view(stage) == "yarn" && !r.has_yarn()) continue;
+    for (std::size_t i : idx) p.metrics.push_back(std::string(stage) + " " + k_metrics[i].label);
+  }
+  svg::DotRow row{r.id, "", "", {}};
+  for (std::size_t i = 0; i < k_metrics.size(); ++i)
+    if (std::string_view(k_metrics[i].stage) == "shell" || r.has_yarn()) row.values.push_back(r.metrics[i]);
+  p.rows.push_back(row);
+  p.title = r.outputs && (r.has_shell() || r.has_yarn()) ? "Errors" : "No results: " + r.error;
+  p.attributes = attrs("fabric", "fabric", r.id);
+  h << "<div class=\"plots\">" << svg::render(p) << "</div>";
+  if (!r.outputs || (!r.has_shell() && !r.has_yarn())) {
+    h << "</section>";
+    return;
+  }
+  // Errors per direction.
+  h << "<table><tr><th class=\"l\">direction</th><th>shell force</th><th>shell compression</th>";
+  if (r.has_yarn()) h << "<th>yarn stress, comfort</th><th>yarn stress, full</th><th>yarn compression</th><th>yarn bending</th>";
+  h << "</tr>";
+  std::set<std::string> dirs;
+  if (r.has_shell() && r.outputs->shell.contains("directions"))
+    for (const auto& d : r.outputs->shell["directions"]) dirs.insert(d.value("direction", std::string("?")));
+  if (r.has_yarn() && r.outputs->yarn.contains("errors_by_direction"))
+    for (const auto& [k, v] : r.outputs->yarn["errors_by_direction"].items()) dirs.insert(k);
+  for (const char* dir : {"weft", "bias", "warp"}) {
+    if (!dirs.count(dir)) continue;
+    h << "<tr><td class=\"l\">" << dir << "</td>";
+    double f = k_nan, c = k_nan;
+    if (r.has_shell() && r.outputs->shell.contains("directions"))
+      for (const auto& d : r.outputs->shell["directions"])
+        if (d.value("direction", std::string()) == dir) {
+          f = shell_error_pct_json(d.value("measured_force_N", json()), d.value("simulated_force_N", json()));
+          c = shell_error_pct_json(d.value("measured_compression", json()), d.value("simulated_compression", json()));
+        }
+    h << pct_cell(f) << pct_cell(c);
+    if (r.has_yarn()) {
+      const json& e = r.outputs->yarn.value("errors_by_direction", json::object());
+      const json dj = e.contains(dir) ? e[dir] : json::object();
+      for (const char* k : {"stress_comfort_pct", "stress_full_pct", "compression_pct", "bending_pct"})
+        h << pct_cell(number_or_nan(dj.value(k, json())));
+    }
+    h << "</tr>";
+  }
+  h << "<tr><td class=\"l\"><b>all</b></td>";
+  for (std::size_t i : metric_indices("shell", false)) h << pct_cell(r.metrics[i]);
+  if (r.has_yarn())
+    for (std::size_t i : metric_indices("yarn")) h << pct_cell(r.metrics[i]);
+  h << "</tr></table>";
+  const double ar = r.metrics[2];
+  if (std::isfinite(ar)) h << "<p>Pear-loop aspect-ratio error " << number_label(ar) << " %.</p>";
+  h << "<div class=\"plots\">";
+  if (r.has_shell()) shell_plots(h, r);
+  if (r.has_yarn()) yarn_plots(h, r);
+  h << "</div>";
+  parameter_plot(h, r);
+  // Identification notes.
+  for (const json* stage : {&r.outputs->shell, &r.outputs->yarn}) {
+    if (!stage->is_object()) continue;
+    for (const char* key : {"not_identified", "weakly_identified"}) {
+      const auto list = strings(*stage, key);
+      if (list.empty()) continue;
+      h << "<p class=\"note\">" << (std::string_view(key) == "not_identified" ? "Not identified" : "Weakly identified")
+        << ": ";
+      bool first = true;
+      for (const auto& s : list) h << (first ? "" : "; ") << escape(s), first = false;
+      h << "</p>";
+    }
+  }
+  // Time per stage and the effects simulated.
+  h << "<table><tr>";
+  for (const auto& t : k_times) h << "<th>" << t.label << "</th>";
+  h << "</tr><tr>";
+  for (double t : r.times) h << "<td>" << seconds_text(t) << "</td>";
+  h << "</tr></table><p class=\"note\">Effects simulated — shell: ";
+  if (r.has_shell()) list_json(h, r.outputs->shell.value("effects", json()));
+  if (r.has_yarn()) {
+    h << "; yarn: ";
+    list_json(h, r.outputs->yarn.value("effects", json()));
+  }
+  h << ". Files: <code>" << escape(r.outputs->folder.string()) << "</code></p></section>";
+}
+
+}  // namespace
+
+std::string report_html(const ReportData& d, const std::string& generated) {
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"/><title>yarnfit report: " << d.fabrics.size()
+    << " fabrics</title><style>" << k_css << "</style></head><body>";
+  h << "<h1>yarnfit report</h1><p class=\"meta\">" << escape(generated) << " · " << d.run_summaries.size() << " run"
+    << (d.run_summaries.size() == 1 ? "" : "s") << " · <a href=\"fabrics.csv\">fabrics.csv</a> · <a "
+       "href=\"families.csv\">families.csv</a> · <a href=\"report.json\">report.json</a></p>";
+  h << "<ul class=\"toc\"><li><a href=\"#summary\">Summary</a></li><li><a href=\"#families\">Per family</a></li>"
+       "<li><a href=\"#overview\">Errors per fabric</a></li><li><a href=\"#cost\">What accuracy costs</a></li>";
+  for (const auto& r : d.fabrics) h << "<li><a href=\"#" << anchor(r.id) << "\">" << escape(r.id) << "</a></li>";
+  h << "</ul>";
+  summary(h, d);
+  family_tables(h, d);
+  overview_plots(h, d);
+  family_plots(h, d);
+  cost_section(h, d);
+  h << "<h2 id=\"fabrics\">Fabrics</h2>";
+  for (const auto& r : d.fabrics) fabric_section(h, r, d.run_summaries.size());
+  h << "</body></html>\n";
+  return h.str();
+}
+
+}  // namespace yarnfit::reports
