@@ -263,8 +263,17 @@ void cost_section(std::ostringstream& h, const ReportData& d) {
          "example two batches with different swarm settings) to compare their errors and times here.</p>";
     return;
   }
+  // The runs that hold a compared fabric (a run over other fabrics has nothing to compare).
   std::vector<std::string> runs;
-  for (const auto& r : d.run_summaries) runs.push_back(r.label);
+  std::vector<int> run_index;
+  for (std::size_t k = 0; k < d.run_summaries.size(); ++k) {
+    bool used = false;
+    for (const auto& id : compared)
+      for (const auto& r : d.by_run.at(id)) used = used || r.run_index == static_cast<int>(k);
+    if (!used) continue;
+    runs.push_back(d.run_summaries[k].label);
+    run_index.push_back(static_cast<int>(k));
+  }
   h << "<p>Each fabric in several runs: its headline error (yarn comfort-range stress where the yarn stage ran, "
        "else shell force) and its fit time.</p><table><tr><th class=\"l\">fabric</th>";
   for (const auto& r : runs) h << "<th>" << escape(r) << " error [%]</th><th>" << escape(r) << " time</th>";
@@ -274,7 +283,7 @@ void cost_section(std::ostringstream& h, const ReportData& d) {
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const FabricRow* row = nullptr;
       for (const auto& r : d.by_run.at(id))
-        if (r.run_index == static_cast<int>(k)) row = &r;
+        if (r.run_index == run_index[k]) row = &r;
       if (!row) h << "<td>–</td><td>–</td>";
       else h << pct_cell(row->headline_pct()) << "<td>" << seconds_text(row->times[6]) << "</td>";
     }
@@ -297,8 +306,15 @@ void cost_section(std::ostringstream& h, const ReportData& d) {
     s.marker = svg::marker_for(k);
     for (const auto& id : compared)
       for (const auto& r : d.by_run.at(id))
-        if (r.run_index == static_cast<int>(k)) s.x.push_back(r.times[6]), s.y.push_back(r.headline_pct());
+        if (r.run_index == run_index[k]) s.x.push_back(r.times[6]), s.y.push_back(r.headline_pct());
     p.series.push_back(s);
+  }
+  // Each fabric's runs joined by a thin grey line: its own trade-off of time against error.
+  for (const auto& id : compared) {
+    svg::Series s;
+    s.colour = "#bbbbbb";
+    for (const auto& r : d.by_run.at(id)) s.x.push_back(r.times[6]), s.y.push_back(r.headline_pct());
+    p.series.insert(p.series.begin(), s);
   }
   p.attributes = attrs("cost");
   h << svg::render(p);

@@ -165,9 +165,12 @@ void nice_range(double& lo, double& hi, bool log) {
   Scale s{lo, hi, false, 0, 1};
   const auto t = s.ticks();
   if (t.size() >= 2) {
-    const double step = t[1] - t[0];
-    lo = std::floor(lo / step + 1e-9) * step;
-    hi = std::ceil(hi / step - 1e-9) * step;
+    // Round the ends out to a tick unless that adds more than a tenth of the range (a curve a
+    // hair below zero must not open a whole tick of empty axis): then leave a small margin.
+    const double step = t[1] - t[0], span = hi - lo;
+    const double nlo = std::floor(lo / step + 1e-9) * step, nhi = std::ceil(hi / step - 1e-9) * step;
+    lo = lo - nlo > 0.1 * span ? lo - 0.03 * span : nlo;
+    hi = nhi - hi > 0.1 * span ? hi + 0.03 * span : nhi;
   }
 }
 
@@ -257,9 +260,6 @@ std::string render(const XYPlot& plot) {
   for (const auto& m : plot.marks)
     if (finite(m.x) && (!plot.x_log || m.x > 0)) x0 = std::min(x0, m.x), x1 = std::max(x1, m.x);
   if (!plot.y_log && plot.y_from_zero) y0 = std::min(y0, 0.0), y1 = std::max(y1, 0.0);
-  // A value a hair below zero (a solver's −1e-6) must not open a whole tick below the axis.
-  if (!plot.y_log && y0 < 0.0 && -y0 < 0.02 * (y1 - y0)) y0 = 0.0;
-  if (!plot.x_log && x0 < 0.0 && -x0 < 0.02 * (x1 - x0)) x0 = 0.0;
   if (!plot.x_log && x0 > 0 && x0 < 0.25 * (x1 - x0)) x0 = 0.0;
   nice_range(x0, x1, plot.x_log);
   nice_range(y0, y1, plot.y_log);
