@@ -322,44 +322,55 @@ void cost_section(std::ostringstream& h, const ReportData& d) {
 
 // ---- one fabric -------------------------------------------------------------------------
 
+svg::XYPlot curve_plot(const char* title, const char* x_label, const char* y_label) {
+  svg::XYPlot p;
+  p.title = title;
+  p.x_label = x_label;
+  p.y_label = y_label;
+  return p;
+}
+
+// A measured (or target) curve drawn as markers and its model as a line, in the direction's
+// colour: `data_key` and `model_key` name the arrays of one direction's JSON entry.
+struct CurvePair {
+  svg::XYPlot* plot;
+  const char* data_key;
+  const char* model_key;
+  double scale;  // of the values (fractions to %)
+  const char* data_label;
+  const char* model_label;
+};
+
+void add_direction(const json& d, const char* x_key, double x_scale, std::initializer_list<CurvePair> pairs) {
+  const std::string dir = d.value("direction", std::string("?"));
+  const auto x = numbers(d, x_key, x_scale);
+  for (const CurvePair& c : pairs) {
+    auto data = numbers(d, c.data_key, c.scale), model = numbers(d, c.model_key, c.scale);
+    if (!data.empty()) c.plot->series.push_back({dir + " " + c.data_label, x, data, direction_colour(dir), false, true});
+    if (!model.empty())
+      c.plot->series.push_back({dir + " " + c.model_label, x, model, direction_colour(dir), true, false});
+  }
+}
+
 void shell_plots(std::ostringstream& h, const FabricRow& r) {
   const json& s = r.outputs->shell;
   if (!s.contains("directions")) return;
-  svg::XYPlot force, comp;
-  force.title = "Stretch test: force";
-  force.x_label = "stretch s [%]";
-  force.y_label = "force [N]";
-  comp.title = "Stretch test: lateral compression";
-  comp.x_label = "stretch s [%]";
-  comp.y_label = "compression c [%]";
-  for (const auto& d : s["directions"]) {
-    const std::string dir = d.value("direction", std::string("?"));
-    const auto x = numbers(d, "stretch", 100.0);
-    for (auto [plot, key, scale] : {std::tuple{&force, "force_N", 1.0}, std::tuple{&comp, "compression", 100.0}}) {
-      svg::Series meas{dir + " measured", x, numbers(d, (std::string("measured_") + key).c_str(), scale),
-                       direction_colour(dir), false, true, svg::Marker::circle};
-      svg::Series sim{dir + " shell model", x, numbers(d, (std::string("simulated_") + key).c_str(), scale),
-                      direction_colour(dir), true, false};
-      if (!meas.y.empty()) plot->series.push_back(meas);
-      if (!sim.y.empty()) plot->series.push_back(sim);
-    }
-  }
+  svg::XYPlot force = curve_plot("Stretch test: force", "stretch s [%]", "force [N]");
+  svg::XYPlot comp = curve_plot("Stretch test: lateral compression", "stretch s [%]", "compression c [%]");
+  for (const auto& d : s["directions"])
+    add_direction(d, "stretch", 100.0,
+                  {{&force, "measured_force_N", "simulated_force_N", 1.0, "measured", "shell model"},
+                   {&comp, "measured_compression", "simulated_compression", 100.0, "measured", "shell model"}});
   force.attributes = attrs("fabric-shell-force", "fabric", r.id);
   comp.attributes = attrs("fabric-shell-compression", "fabric", r.id);
   h << svg::render(force);
   if (!comp.series.empty()) h << svg::render(comp);
   if (s.contains("bending") && s["bending"].contains("curves")) {
-    svg::XYPlot b;
-    b.title = "Pear loop: aspect ratio";
-    b.x_label = "clamp distance [mm]";
-    b.y_label = "aspect ratio [–]";
+    svg::XYPlot b = curve_plot("Pear loop: aspect ratio", "clamp distance [mm]", "aspect ratio [–]");
     b.y_from_zero = false;
-    for (const auto& d : s["bending"]["curves"]) {
-      const std::string dir = d.value("direction", std::string("?"));
-      const auto x = numbers(d, "clamp_distance_m", 1e3);
-      b.series.push_back({dir + " measured", x, numbers(d, "measured_aspect_ratio"), direction_colour(dir), false, true});
-      b.series.push_back({dir + " shell model", x, numbers(d, "simulated_aspect_ratio"), direction_colour(dir), true, false});
-    }
+    for (const auto& d : s["bending"]["curves"])
+      add_direction(d, "clamp_distance_m", 1e3,
+                    {{&b, "measured_aspect_ratio", "simulated_aspect_ratio", 1.0, "measured", "shell model"}});
     b.attributes = attrs("fabric-shell-bending", "fabric", r.id);
     h << svg::render(b);
   }
@@ -368,26 +379,16 @@ void shell_plots(std::ostringstream& h, const FabricRow& r) {
 void yarn_plots(std::ostringstream& h, const FabricRow& r) {
   const json& y = r.outputs->yarn;
   if (!y.contains("curves")) return;
-  svg::XYPlot st, comp;
-  st.title = "Uniform targets: stress";
-  st.x_label = "stretch s [%]";
-  st.y_label = "2nd Piola–Kirchhoff stress S [N/m]";
-  comp.title = "Uniform targets: compression";
-  comp.x_label = "stretch s [%]";
-  comp.y_label = "compression c [%]";
+  svg::XYPlot st = curve_plot("Uniform targets: stress", "stretch s [%]", "2nd Piola–Kirchhoff stress S [N/m]");
+  svg::XYPlot comp = curve_plot("Uniform targets: compression", "stretch s [%]", "compression c [%]");
   for (const auto& d : y["curves"]) {
+    add_direction(d, "stretch", 100.0,
+                  {{&st, "target_S_N_per_m", "simulated_S_N_per_m", 1.0, "target", "yarn model"},
+                   {&comp, "target_compression", "simulated_compression", 100.0, "target", "yarn model"}});
     const std::string dir = d.value("direction", std::string("?"));
-    const auto x = numbers(d, "stretch", 100.0);
-    st.series.push_back({dir + " target", x, numbers(d, "target_S_N_per_m"), direction_colour(dir), false, true});
-    st.series.push_back({dir + " yarn model", x, numbers(d, "simulated_S_N_per_m"), direction_colour(dir), true, false});
-    comp.series.push_back(
-        {dir + " target", x, numbers(d, "target_compression", 100.0), direction_colour(dir), false, true});
-    comp.series.push_back(
-        {dir + " yarn model", x, numbers(d, "simulated_compression", 100.0), direction_colour(dir), true, false});
     if (y.contains("errors_by_direction") && y["errors_by_direction"].contains(dir)) {
       const double c = number_or_nan(y["errors_by_direction"][dir].value("comfort_stretch", json()));
-      const std::string label = dir + " end of comfort range";
-      st.marks.push_back({100.0 * c, direction_colour(dir), label});
+      st.marks.push_back({100.0 * c, direction_colour(dir), dir + " end of comfort range"});
       comp.marks.push_back({100.0 * c, direction_colour(dir), ""});
     }
   }
