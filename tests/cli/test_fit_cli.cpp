@@ -304,11 +304,19 @@ TEST_F(FitCli, FitRunsShellThenYarnAndWritesBothStagesAndASummary) {
                                "stress comfort", "R1", "time per stage: shell"})
     EXPECT_NE(summary.find(expected), std::string::npos) << expected << "\n" << summary;
 
+  // The one-fabric report (yarnfit report's files) beside them, and the line saying where.
+  const json report = read_json(out / "report" / "report.json");
+  ASSERT_EQ(report["fabrics"].size(), 1u);
+  EXPECT_EQ(report["fabrics"][0]["id"], "synthetic_yarn");
+  EXPECT_EQ(report["fabrics"][0]["metrics"]["yarn_stress_comfort_pct"], yarn["errors"]["stress_comfort_pct"]);
+  EXPECT_TRUE(fs::exists(out / "report" / "index.html"));
+  EXPECT_NE(r.out.find("report of 1 fabric (1 family, 0 not fitted) from 1 run: open "), std::string::npos) << r.out;
+
   // A second run would replace every one of those files: refused, nothing simulated.
   r = run_cli(args);
   EXPECT_EQ(r.exit_code, 2);
   for (const char* f : {"shell_fit.json", "uniform_targets.csv", "shell_curves.csv", "yarn_fit.json", "yarn_curves.csv",
-                        "summary.txt"})
+                        "summary.txt", "report/index.html"})
     EXPECT_NE(r.err.find((out / f).string() + ": exists (use --force"), std::string::npos) << f << "\n" << r.err;
 }
 
