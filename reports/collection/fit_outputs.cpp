@@ -37,6 +37,7 @@ std::string string_or(const json& j, const char* key, const std::string& fallbac
 FabricOutputs read_fit_outputs(const fs::path& folder, std::vector<std::string>& problems) {
   FabricOutputs f;
   f.folder = folder;
+  const std::size_t problems_before = problems.size();
   f.shell = read_json(folder / "shell_fit.json", problems);
   f.yarn = read_json(folder / "yarn_fit.json", problems);
   f.id = string_or(f.shell, "fabric", string_or(f.yarn, "fabric", folder.filename().string()));
@@ -49,7 +50,8 @@ FabricOutputs read_fit_outputs(const fs::path& folder, std::vector<std::string>&
     f.error = "yarn fit failed: " + string_or(f.yarn, "message", "no message");
   } else if (f.shell.is_null() && f.yarn.is_null()) {
     f.status = "failed";
-    f.error = "no shell_fit.json or yarn_fit.json in " + folder.string();
+    f.error = problems.size() > problems_before ? problems.back()
+                                                : "no shell_fit.json or yarn_fit.json in " + folder.string();
   }
   return f;
 }
