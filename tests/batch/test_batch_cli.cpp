@@ -177,13 +177,27 @@ pid_t start_in_background(const std::string& prefix, const std::string& args, co
   return pid;
 }
 
-// Waits until `fabric`'s swarm has written a checkpoint and its yarn stage has not finished:
-// the moment to kill a batch inside a swarm. False after `timeout` s or if `pid` ended.
+// The stage the ledger records for a running `fabric` ("" when none yet).
+std::string ledger_stage(const fs::path& out, const std::string& fabric) {
+  try {
+    const auto job = batch::Ledger::open_read_only(batch::ledger_file(out)).job(fabric);
+    return job && job->status == "running" ? job->stage : "";
+  } catch (const batch::LedgerError&) {
+    return "";  // not created yet
+  }
+}
+
+// Waits until `fabric`'s swarm has written a checkpoint, its yarn stage has not finished and
+// the ledger says it is in its swarm (the batch writes the stage the fit reports through its
+// pipe a moment after the fit wrote the checkpoint): the moment to kill a batch inside a
+// swarm. False after `timeout` s or if `pid` ended.
 bool wait_inside_swarm(const fs::path& out, const std::string& fabric, pid_t pid, double timeout) {
   const fs::path folder = out / "fabrics" / fabric;
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
   while (std::chrono::steady_clock::now() < until) {
-    if (fs::exists(folder / "swarm_checkpoint.json") && !fs::exists(folder / "yarn_fit.json")) return true;
+    if (fs::exists(folder / "swarm_checkpoint.json") && ledger_stage(out, fabric) == "swarm" &&
+        !fs::exists(folder / "yarn_fit.json"))
+      return true;
     int status = 0;
     if (::waitpid(pid, &status, WNOHANG) == pid) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
