@@ -16,13 +16,6 @@ namespace {
 
 double at(const json& j, const char* key) { return j.is_object() && j.contains(key) ? number_or_nan(j[key]) : k_nan; }
 
-template <std::size_t N, class Info>
-std::size_t index_of(const std::array<Info, N>& list, std::string_view key) {
-  for (std::size_t i = 0; i < N; ++i)
-    if (key == list[i].key) return i;
-  return N;
-}
-
 // A CSV cell: the number with 10 significant digits, or empty for no figure.
 std::string cell(double v) {
   if (!std::isfinite(v)) return "";
@@ -51,7 +44,7 @@ json stats_json(const MetricStats& s) {
 std::string family_name(const std::string& family) { return family.empty() ? "(no family)" : family; }
 
 double FabricRow::headline_pct() const {
-  return metrics[has_yarn() ? index_of(k_metrics, "yarn_stress_comfort_pct") : index_of(k_metrics, "shell_force_pct")];
+  return metric(headline_key());
 }
 
 const char* FabricRow::headline_key() const { return has_yarn() ? "yarn_stress_comfort_pct" : "shell_force_pct"; }
@@ -76,21 +69,21 @@ FabricRow fabric_row(const FabricOutputs& f, const std::string& run, int run_ind
   double total = 0.0;
   bool any = false;
   if (f.shell.is_object()) {
-    r.times[0] = f.shell.contains("inplane") ? at(f.shell["inplane"], "timing_s") : at(f.shell, "timing_s");
-    if (f.shell.contains("bending")) r.times[1] = at(f.shell["bending"], "timing_s");
+    r.times[time_index("shell_inplane_s")] = f.shell.contains("inplane") ? at(f.shell["inplane"], "timing_s") : at(f.shell, "timing_s");
+    if (f.shell.contains("bending")) r.times[time_index("shell_bending_s")] = at(f.shell["bending"], "timing_s");
     const double t = at(f.shell, "timing_s");
     if (std::isfinite(t)) total += t, any = true;
   }
   if (f.yarn.is_object() && f.yarn.contains("timing_s")) {
     const json& t = f.yarn["timing_s"];
-    r.times[2] = at(t, "swarm");
-    r.times[3] = at(t, "local");
-    r.times[4] = at(t, "bending_check");
-    r.times[5] = at(t, "profile");
+    r.times[time_index("yarn_swarm_s")] = at(t, "swarm");
+    r.times[time_index("yarn_local_s")] = at(t, "local");
+    r.times[time_index("yarn_bending_check_s")] = at(t, "bending_check");
+    r.times[time_index("yarn_profile_s")] = at(t, "profile");
     const double yt = at(t, "total");
     if (std::isfinite(yt)) total += yt, any = true;
   }
-  r.times[6] = any ? total : k_nan;
+  r.times[time_index("total_s")] = any ? total : k_nan;
   return r;
 }
 
@@ -121,8 +114,8 @@ bool ReportData::has_yarn() const {
 }
 
 bool ReportData::has_bending() const {
-  const std::size_t k = index_of(k_metrics, "shell_aspect_ratio_pct");
-  return std::any_of(fabrics.begin(), fabrics.end(), [k](const FabricRow& r) { return std::isfinite(r.metrics[k]); });
+  return std::any_of(fabrics.begin(), fabrics.end(),
+                     [](const FabricRow& r) { return std::isfinite(r.metric("shell_aspect_ratio_pct")); });
 }
 
 ReportData make_report_data(std::vector<RunOutputs> runs) {
@@ -140,7 +133,7 @@ ReportData make_report_data(std::vector<RunOutputs> runs) {
       ++s.fabrics;
       if (row.status == "done") ++s.done;
       if (row.status == "failed") ++s.failed;
-      if (std::isfinite(row.times[6])) s.seconds += row.times[6];
+      if (std::isfinite(row.total_seconds())) s.seconds += row.total_seconds();
       data.by_run[row.id].push_back(row);
       latest[row.id] = row;
     }
@@ -218,7 +211,7 @@ json report_json(const ReportData& data) {
     json entries = json::array();
     for (const auto& r : rows)
       entries.push_back({{"run", r.run}, {"metric", r.headline_key()}, {"error_pct", pct_json(r.headline_pct())},
-                         {"seconds", pct_json(r.times[6])}});
+                         {"seconds", pct_json(r.total_seconds())}});
     comparison.push_back({{"fabric", id}, {"runs", entries}});
   }
   j["comparison"] = comparison;

@@ -15,6 +15,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -69,6 +70,18 @@ inline constexpr std::array<TimeInfo, 7> k_times{{
     {"total_s", "total"},
 }};
 
+// Positions in k_metrics and k_times by name (the size of the list for an unknown name).
+constexpr std::size_t metric_index(std::string_view key) {
+  for (std::size_t i = 0; i < k_metrics.size(); ++i)
+    if (key == k_metrics[i].key) return i;
+  return k_metrics.size();
+}
+constexpr std::size_t time_index(std::string_view key) {
+  for (std::size_t i = 0; i < k_times.size(); ++i)
+    if (key == k_times[i].key) return i;
+  return k_times.size();
+}
+
 struct FabricRow {
   std::string id;
   std::string family;
@@ -81,6 +94,8 @@ struct FabricRow {
   std::array<double, k_params.size()> params;
   std::array<double, k_times.size()> times;
   FabricRow() { metrics.fill(k_nan), params.fill(k_nan), times.fill(k_nan); }
+  [[nodiscard]] double metric(std::string_view key) const { return metrics.at(metric_index(key)); }
+  [[nodiscard]] double total_seconds() const { return times.at(time_index("total_s")); }
   [[nodiscard]] bool has_shell() const { return outputs && outputs->shell.is_object(); }
   [[nodiscard]] bool has_yarn() const { return outputs && outputs->yarn.is_object(); }
   // The figure the run comparison ranks by: the yarn comfort-range stress error when the yarn

@@ -285,7 +285,7 @@ void cost_section(std::ostringstream& h, const ReportData& d) {
       for (const auto& r : d.by_run.at(id))
         if (r.run_index == run_index[k]) row = &r;
       if (!row) h << "<td>–</td><td>–</td>";
-      else h << pct_cell(row->headline_pct()) << "<td>" << seconds_text(row->times[6]) << "</td>";
+      else h << pct_cell(row->headline_pct()) << "<td>" << seconds_text(row->total_seconds()) << "</td>";
     }
     h << "</tr>";
   }
@@ -306,14 +306,14 @@ void cost_section(std::ostringstream& h, const ReportData& d) {
     s.marker = svg::marker_for(k);
     for (const auto& id : compared)
       for (const auto& r : d.by_run.at(id))
-        if (r.run_index == run_index[k]) s.x.push_back(r.times[6]), s.y.push_back(r.headline_pct());
+        if (r.run_index == run_index[k]) s.x.push_back(r.total_seconds()), s.y.push_back(r.headline_pct());
     p.series.push_back(s);
   }
   // Each fabric's runs joined by a thin grey line: its own trade-off of time against error.
   for (const auto& id : compared) {
     svg::Series s;
     s.colour = "#bbbbbb";
-    for (const auto& r : d.by_run.at(id)) s.x.push_back(r.times[6]), s.y.push_back(r.headline_pct());
+    for (const auto& r : d.by_run.at(id)) s.x.push_back(r.total_seconds()), s.y.push_back(r.headline_pct());
     p.series.insert(p.series.begin(), s);
   }
   p.attributes = attrs("cost");
@@ -518,7 +518,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   if (r.has_yarn())
     for (std::size_t i : metric_indices("yarn")) h << pct_cell(r.metrics[i]);
   h << "</tr></table>";
-  const double ar = r.metrics[2];
+  const double ar = r.metric("shell_aspect_ratio_pct");
   if (std::isfinite(ar)) h << "<p>Pear-loop aspect-ratio error " << number_label(ar) << " %.</p>";
   h << "<div class=\"plots\">";
   if (r.has_shell()) shell_plots(h, r);
