@@ -32,7 +32,8 @@ nlohmann::json fit_options_json(const pipeline::PipelineOptions& o) {
   j["shell"] = {{"mesh", o.shell.mesh},
                 {"refinements", o.shell.refinements},
                 {"max_iterations", o.shell.max_iterations},
-                {"full_range", o.shell.full_range}};
+                {"full_range", o.shell.full_range},
+                {"model", shell::to_string(o.shell.model)}};
   if (o.stages == pipeline::Stages::shell) return j;
   const auto& y = o.yarn;
   j["yarn"] = {{"particles", y.particles},

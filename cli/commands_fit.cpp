@@ -176,6 +176,7 @@ void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code) {
              "fit on its targets (yarn_fit.json, yarn_curves.csv), and DIR/summary.txt for both");
   add_yarn_fit_options(*f, *fargs);
   f->add_option("--mesh", fargs->mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
+  add_shell_model_option(*f, fargs->shell_model);
   f->add_flag("--no-report", fargs->no_report, "Do not write the one-fabric HTML report DIR/report/");
   f->callback([fargs, &exit_code] { exit_code = run_fit(*fargs); });
 }

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/fit_args.hpp"
 #include "cli/option_names.hpp"
 #include "cli/progress_display.hpp"
 #include "cli/shell_scene_args.hpp"
@@ -26,11 +27,13 @@ struct ShellArgs {
   int max_iterations = 100;
   bool quiet = false;
   bool full_range = false;
+  std::string model = shell::to_string(shell::ShellFitOptions{}.model);
 };
 
 // The library's options for these arguments (validated by the library: every problem named).
-shell::ShellFitOptions shell_options(const ShellArgs& a) {
+shell::ShellFitOptions shell_options(const ShellArgs& a, db::Problems& problems) {
   shell::ShellFitOptions o;
+  o.model = shell_model_from(a.model, problems);
   o.mesh = a.mesh_mm * 1e-3;
   o.refinements = a.refine;
   o.threads = a.threads;
@@ -42,7 +45,7 @@ shell::ShellFitOptions shell_options(const ShellArgs& a) {
 int run_shell_fit(const ShellArgs& a) {
   const auto load = db::load_fabric(a.fabric);
   db::Problems problems = load.problems;
-  shell::ShellFitOptions options = shell_options(a);
+  shell::ShellFitOptions options = shell_options(a, problems);
   problems.append(as_options(options.problems()));
   if (!problems.empty()) {
     std::cerr << problems.to_string();
@@ -164,6 +167,7 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
   fit->add_option("-o,--out", args->out, "Output folder")->required();
   // Ranges are checked by the library (ShellFitOptions::problems), which names every problem.
   fit->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->capture_default_str();
+  add_shell_model_option(*fit, args->model);
   fit->add_option("--refine", args->refine, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
   fit->add_option("--threads", args->threads, "Test directions simulated in parallel (1-64)")->capture_default_str();
   fit->add_option("--max-iterations", args->max_iterations,

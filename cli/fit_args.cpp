@@ -28,9 +28,23 @@ pipeline::PipelineOptions pipeline_options(const YarnFitArgs& a, db::Problems& p
   pipeline::PipelineOptions o;
   o.shell.mesh = a.mesh_mm * 1e-3;
   o.shell.threads = a.threads > 0 ? a.threads : 2;
+  o.shell.model = shell_model_from(a.shell_model, problems);
   o.yarn = settings_from(a, problems);
   o.start = a.start;
   return o;
+}
+
+void add_shell_model_option(CLI::App& cmd, std::string& model) {
+  cmd.add_option("--shell-model", model,
+                 "In-plane shell law: stiffening (eq. 6.1 plus exponential lock-up per material direction, "
+                 "fitted from the thesis model's fit) or thesis (eq. 6.1 alone)")
+      ->capture_default_str();
+}
+
+shell::InplaneModel shell_model_from(const std::string& name, db::Problems& problems) {
+  if (const auto m = shell::parse_inplane_model(name)) return *m;
+  problems.add("", 0, "--shell-model", name + ": not a shell model (stiffening or thesis)");
+  return shell::ShellFitOptions{}.model;
 }
 
 void add_fit_setting_options(CLI::App& cmd, YarnFitArgs& a) {

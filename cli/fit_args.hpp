@@ -29,9 +29,15 @@ struct YarnFitArgs {
   bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false, no_profile = false;
   bool quiet = false, force = false;
   bool no_report = false;  // `fit` and `batch`: no report/ folder
-  // `fit` only: the shell stage.
+  // `fit` and `batch`: the shell stage.
   double mesh_mm = 5.0;
+  std::string shell_model = shell::to_string(shell::ShellFitOptions{}.model);
 };
+
+// --shell-model thesis|stiffening (`shell fit`, `fit`, `batch`).
+void add_shell_model_option(CLI::App& cmd, std::string& model);
+// The model named by --shell-model; an unknown name is a problem (and the default is kept).
+shell::InplaneModel shell_model_from(const std::string& name, db::Problems& problems);
 
 // The library's settings for these arguments; an unknown --local-method is a problem. --start
 // skips the swarm (the local step refines the given parameters).

@@ -19,6 +19,8 @@ struct ShellSceneArgs {
   double kxx = 120, kxy = 35, kyy = 400, kss = 30, kn1 = 5, kn2 = 8;
   // k_θ weft, bias, warp [N·m]; 0: not given.
   double ktheta_weft = 0, ktheta_bias = 0, ktheta_warp = 0;
+  // Lock-up of the stiffening model (l [N/m], b [-]) along weft, warp, shear; 0: eq. 6.1.
+  double lxx = 0, bxx = 0, lyy = 0, byy = 0, lss = 0, bss = 0;
   double length_mm = shell::SyntheticShellOptions{}.length * 1e3;
   double width_mm = shell::SyntheticShellOptions{}.width * 1e3;
   double gauge_length_mm = 0, gauge_width_mm = 0;  // 0: read at the clamps / free edges
@@ -27,15 +29,15 @@ struct ShellSceneArgs {
   int refine = shell::SyntheticShellOptions{}.refinements;
   double bend_mesh_mm = shell::SyntheticShellOptions{}.bending_target_edge * 1e3;
   int bend_refine = shell::SyntheticShellOptions{}.bending_refinements;
-  // The parameter options, in the order kxx kxy kyy kss kn1 kn2 ktheta_weft ktheta_bias
-  // ktheta_warp, to tell which were given on the command line.
+  // The parameter options, in the order of k_shell_param_names, to tell which were given on
+  // the command line.
   std::vector<CLI::Option*> parameter_options;
 };
 
 // The parameter names of shell_fit.json's `params`, in the order of parameter_options.
 using shell::k_shell_param_names;
 
-// --kxx … --kn2 and --ktheta-weft/bias/warp.
+// --kxx … --kn2, --ktheta-weft/bias/warp and the lock-up --lxx … --bss.
 void add_shell_parameter_options(CLI::App& app, ShellSceneArgs& args);
 // --length-mm, --width-mm, --gauge-length-mm, --gauge-width-mm, --areal-density-gsm, --mesh,
 // --refine, --bend-mesh, --bend-refine.

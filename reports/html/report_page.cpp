@@ -465,6 +465,13 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
     << escape(r.id) << " <span class=\"meta\">family " << escape(family_name(r.family))
     << (runs > 1 ? ", run " + escape(r.run) : std::string()) << ", " << escape(r.status) << "</span></h3>";
   if (!r.error.empty()) h << "<p class=\"fail\">" << escape(r.error) << "</p>";
+  if (r.has_shell()) {
+    // shell_fit.json names its in-plane law; outputs from before the choice existed are eq. 6.1.
+    const auto& shell = r.outputs->shell;
+    const std::string model = shell.contains("model") && shell["model"].is_string() ? shell["model"].get<std::string>() : "thesis";
+    h << "<p class=\"note\" data-shell-model=\"" << escape(model) << "\">shell model: " << escape(model)
+      << (model == "stiffening" ? " (eq. 6.1 with exponential lock-up per material direction)" : " (eq. 6.1)") << "</p>";
+  }
   // The fabric's plot: its errors against the band (a row per stage).
   svg::DotPlot p;
   p.x_label = "error [%]";

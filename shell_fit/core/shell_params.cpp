@@ -5,6 +5,35 @@
 
 namespace yarnfit::shell {
 
+std::array<double, k_inplane_param_count> to_array(const InplaneParams& p) {
+  return {p.kxx, p.kxy, p.kyy, p.kss, p.kn1, p.kn2, p.lxx, p.bxx, p.lyy, p.byy, p.lss, p.bss};
+}
+
+InplaneParams inplane_from_array(const std::array<double, k_inplane_param_count>& v) {
+  InplaneParams p;
+  p.kxx = v[0];
+  p.kxy = v[1];
+  p.kyy = v[2];
+  p.kss = v[3];
+  p.kn1 = v[4];
+  p.kn2 = v[5];
+  p.lxx = v[6];
+  p.bxx = v[7];
+  p.lyy = v[8];
+  p.byy = v[9];
+  p.lss = v[10];
+  p.bss = v[11];
+  return p;
+}
+
+const char* to_string(InplaneModel m) { return m == InplaneModel::thesis ? "thesis" : "stiffening"; }
+
+std::optional<InplaneModel> parse_inplane_model(const std::string& name) {
+  if (name == "thesis") return InplaneModel::thesis;
+  if (name == "stiffening") return InplaneModel::stiffening;
+  return std::nullopt;
+}
+
 double interpolate_ktheta(const BendingParams& p, double angle) {
   constexpr double quarter = std::numbers::pi / 4.0;
   // Fold to [0, π/2]: an edge at angle a behaves as one at −a and at a + π.

@@ -2,12 +2,16 @@
 // Parameters of the thin-shell model (thesis 6.3, SPEC §3), SI units.
 //
 //   Ψ_inplane = ½ εᵀ K ε + kn1 (J − 1)² + kn2 log² J              (6.1)   [J/m² = N/m]
+//             + Σ_d φ(⟨ε_d⟩; l_d, b_d)                            lock-up ("stiffening" model)
 //   K = [[kxx, kxy, 0], [kxy, kyy, 0], [0, 0, kss]],  ε = (E11, E22, 2 E12) in the material
 //   frame (weft = x), E = ½ (FᵀF − I), J = area ratio.
+//   The lock-up terms (shell_fit/energies/lockup_curve.hpp) act on the weft strain ε1 ≥ 0,
+//   the warp strain ε2 ≥ 0 and the shear |ε3|; with l = 0 they vanish and Ψ is eq. 6.1.
 //   Ψ_bending = k_θ κ²,  κ = 3θ/H per interior edge, times the incident rest area    (6.4)
 //   k_θ [N·m] interpolated linearly in the edge's rest angle between weft, bias, warp.
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +24,31 @@ struct InplaneParams {
   double kss = 0.0;  // [N/m]
   double kn1 = 0.0;  // [N/m]
   double kn2 = 0.0;  // [N/m]
+  // Lock-up terms (zero in the thesis model): stiffness growth l [N/m] and rate b [-] along
+  // weft (xx), warp (yy) and shear (ss).
+  double lxx = 0.0, bxx = 0.0;
+  double lyy = 0.0, byy = 0.0;
+  double lss = 0.0, bss = 0.0;
 };
+
+// The in-plane parameters as a vector, in the order of k_inplane_param_names: the six of
+// eq. 6.1, then the lock-up pairs. The fit, the scenes' sensitivities and the JSON use it.
+inline constexpr int k_inplane_param_count = 12;
+inline constexpr const char* k_inplane_param_names[k_inplane_param_count] = {
+    "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "lxx", "bxx", "lyy", "byy", "lss", "bss"};
+// Index of the first lock-up parameter; the thesis model has the first six only.
+inline constexpr int k_first_lockup_param = 6;
+std::array<double, k_inplane_param_count> to_array(const InplaneParams& p);
+InplaneParams inplane_from_array(const std::array<double, k_inplane_param_count>& v);
+// The lock-up rates b enter nonlinearly; every other parameter enters Ψ linearly.
+constexpr bool is_lockup_rate(int k) { return k == 7 || k == 9 || k == 11; }
+
+// Which in-plane law a fit uses: eq. 6.1 alone ("thesis"), or with the lock-up terms
+// ("stiffening").
+enum class InplaneModel { thesis, stiffening };
+const char* to_string(InplaneModel m);
+// "thesis" or "stiffening"; nullopt otherwise.
+std::optional<InplaneModel> parse_inplane_model(const std::string& name);
 
 struct BendingParams {
   // k_θ along weft (0°), bias (45°) and warp (90°) [N·m].

@@ -1,6 +1,7 @@
 #include "shell_fit/energies/inplane_material.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -23,26 +24,90 @@ double contract(const Eigen::Matrix2d& a, const Eigen::Matrix2d& b) {
   return a.cwiseProduct(b).sum();
 }
 
-// Directional derivative of the StVK first Piola-Kirchhoff stress P = F S(E):
-//   dP = dF S + F 𝕂(dE),  dE = ½ (dFᵀ F + Fᵀ dF).
+// Directional derivative of the first Piola-Kirchhoff stress P = F S(E) (StVK and lock-up):
+//   dP = dF S + F dS(E; dE),  dE = ½ (dFᵀ F + Fᵀ dF).
 // Written once for 2×2 and 3×2 F; the caller fills one column of ∂P/∂F per basis direction.
 template <int Rows>
 Eigen::Matrix<double, Rows, 2> stvk_pk1_direction(const InplaneMaterial& m,
                                                   const Eigen::Matrix<double, Rows, 2>& F,
-                                                  const Eigen::Matrix2d& S,
+                                                  const Eigen::Matrix2d& E, const Eigen::Matrix2d& S,
                                                   const Eigen::Matrix<double, Rows, 2>& dF) {
   const Eigen::Matrix2d dFtF = dF.transpose() * F;
   const Eigen::Matrix2d dE = 0.5 * (dFtF + dFtF.transpose());
-  return dF * S + F * m.stvk_stress(dE);
+  return dF * S + F * m.strain_stress_direction(E, dE);
 }
 
 }  // namespace
 
 InplaneMaterial::InplaneMaterial(const InplaneParams& p, double material_angle)
-    : m_params(p), m_material_angle(material_angle) {
+    : m_params(p),
+      m_lockup{{p.lxx, p.bxx, false}, {p.lyy, p.byy, false}, {p.lss, p.bss, false}},
+      m_material_angle(material_angle) {
   const double c = std::cos(material_angle);
   const double s = std::sin(material_angle);
   m_rotation << c, -s, s, c;
+}
+
+InplaneMaterial InplaneMaterial::parameter_derivative(const InplaneParams& p, double material_angle, int k) {
+  // Ψ is linear in every parameter but the rates: ∂Ψ/∂p_k is the law with p_k = 1 and the
+  // other linear parameters 0 (a lock-up stiffness keeps its own rate). For a rate b_d it is
+  // the lock-up curve d alone, in its rate-derivative form.
+  std::array<double, k_inplane_param_count> v{};
+  const auto full = to_array(p);
+  if (is_lockup_rate(k)) {
+    v[static_cast<std::size_t>(k - 1)] = full[static_cast<std::size_t>(k - 1)];
+    v[static_cast<std::size_t>(k)] = full[static_cast<std::size_t>(k)];
+  } else {
+    v[static_cast<std::size_t>(k)] = 1.0;
+    if (k >= k_first_lockup_param) v[static_cast<std::size_t>(k + 1)] = full[static_cast<std::size_t>(k + 1)];
+  }
+  InplaneMaterial m(inplane_from_array(v), material_angle);
+  if (is_lockup_rate(k)) m.m_lockup[(k - k_first_lockup_param) / 2].rate_derivative = true;
+  return m;
+}
+
+namespace {
+
+// The material-frame Voigt strain (ε1, ε2, ε3 = 2 E_m12) of a lab-frame strain.
+Eigen::Vector3d voigt(const Eigen::Matrix2d& R, const Eigen::Matrix2d& E) {
+  const Eigen::Matrix2d Em = R.transpose() * E * R;
+  return {Em(0, 0), Em(1, 1), Em(0, 1) + Em(1, 0)};
+}
+
+// A material-frame stress (S11, S22, S12) as a lab-frame matrix.
+Eigen::Matrix2d lab_stress(const Eigen::Matrix2d& R, double s11, double s22, double s12) {
+  Eigen::Matrix2d Sm;
+  Sm << s11, s12, s12, s22;
+  return R * Sm * R.transpose();
+}
+
+}  // namespace
+
+Eigen::Matrix2d InplaneMaterial::strain_stress(const Eigen::Matrix2d& E) const {
+  Eigen::Matrix2d S = stvk_stress(E);
+  if (!has_lockup()) return S;
+  const Eigen::Vector3d e = voigt(m_rotation, E);
+  const double shear = std::copysign(m_lockup[2].stress(std::abs(e[2])), e[2]);
+  return S + lab_stress(m_rotation, m_lockup[0].stress(e[0]), m_lockup[1].stress(e[1]), shear);
+}
+
+Eigen::Matrix2d InplaneMaterial::strain_stress_direction(const Eigen::Matrix2d& E, const Eigen::Matrix2d& dE) const {
+  Eigen::Matrix2d dS = stvk_stress(dE);
+  if (!has_lockup()) return dS;
+  const Eigen::Vector3d e = voigt(m_rotation, E);
+  const Eigen::Vector3d de = voigt(m_rotation, dE);
+  return dS + lab_stress(m_rotation, m_lockup[0].tangent(e[0]) * de[0], m_lockup[1].tangent(e[1]) * de[1],
+                         m_lockup[2].tangent(std::abs(e[2])) * de[2]);
+}
+
+double InplaneMaterial::strain_energy(const Eigen::Matrix2d& E) const {
+  // ½ εᵀKε = ½ S_m : E_m = ½ S : E (the rotation preserves the contraction).
+  double psi = 0.5 * contract(stvk_stress(E), E);
+  if (has_lockup()) {
+    const Eigen::Vector3d e = voigt(m_rotation, E);
+    psi += m_lockup[0].energy(e[0]) + m_lockup[1].energy(e[1]) + m_lockup[2].energy(std::abs(e[2]));
+  }
+  return psi;
 }
 
 Eigen::Matrix2d InplaneMaterial::stvk_stress(const Eigen::Matrix2d& E) const {
@@ -86,8 +151,7 @@ double InplaneMaterial::psi(const Eigen::Matrix2d& F) const {
   const double J = det2(F);
   if (has_barrier() && !(J > 0.0)) return infinity;
   const Eigen::Matrix2d E = 0.5 * (F.transpose() * F - Eigen::Matrix2d::Identity());
-  // ½ εᵀKε = ½ S_m : E_m = ½ S : E (the rotation preserves the contraction).
-  return 0.5 * contract(stvk_stress(E), E) + area_energy(J);
+  return strain_energy(E) + area_energy(J);
 }
 
 Eigen::Matrix2d InplaneMaterial::pk1(const Eigen::Matrix2d& F) const {
@@ -95,19 +159,19 @@ Eigen::Matrix2d InplaneMaterial::pk1(const Eigen::Matrix2d& F) const {
   if (has_barrier() && !(J > 0.0)) return Eigen::Matrix2d::Zero();
   const Eigen::Matrix2d E = 0.5 * (F.transpose() * F - Eigen::Matrix2d::Identity());
   // ∂J/∂F = cof(F) = adj(F)ᵀ
-  return F * stvk_stress(E) + area_d1(J) * adjugate(F).transpose();
+  return F * strain_stress(E) + area_d1(J) * adjugate(F).transpose();
 }
 
 Eigen::Matrix4d InplaneMaterial::dpk1(const Eigen::Matrix2d& F) const {
   const double J = det2(F);
   if (has_barrier() && !(J > 0.0)) return Eigen::Matrix4d::Zero();
   const Eigen::Matrix2d E = 0.5 * (F.transpose() * F - Eigen::Matrix2d::Identity());
-  const Eigen::Matrix2d S = stvk_stress(E);
+  const Eigen::Matrix2d S = strain_stress(E);
   Eigen::Matrix4d D;
   for (int c = 0; c < 4; ++c) {
     Eigen::Matrix2d dF = Eigen::Matrix2d::Zero();
     dF(c % 2, c / 2) = 1.0;
-    const Eigen::Matrix2d dP = stvk_pk1_direction<2>(*this, F, S, dF);
+    const Eigen::Matrix2d dP = stvk_pk1_direction<2>(*this, F, E, S, dF);
     D.col(c) = Eigen::Map<const Eigen::Vector4d>(dP.data());
   }
   // Area term: f''(J) ∂J⊗∂J + f'(J) ∂²J, with vec(cof F) = (F11, −F01, −F10, F00) and ∂²J
@@ -129,7 +193,7 @@ double InplaneMaterial::psi_surface(const Eigen::Matrix<double, 3, 2>& F) const 
   const double J = std::sqrt(std::max(det2(C), 0.0));
   if (has_barrier() && !(J > 0.0)) return infinity;
   const Eigen::Matrix2d E = 0.5 * (C - Eigen::Matrix2d::Identity());
-  return 0.5 * contract(stvk_stress(E), E) + area_energy(J);
+  return strain_energy(E) + area_energy(J);
 }
 
 Eigen::Matrix<double, 3, 2> InplaneMaterial::pk1_surface(
@@ -138,7 +202,7 @@ Eigen::Matrix<double, 3, 2> InplaneMaterial::pk1_surface(
   const double J = std::sqrt(std::max(det2(C), 0.0));
   if (has_barrier() && !(J > 0.0)) return Eigen::Matrix<double, 3, 2>::Zero();
   const Eigen::Matrix2d E = 0.5 * (C - Eigen::Matrix2d::Identity());
-  Eigen::Matrix2d T = stvk_stress(E);
+  Eigen::Matrix2d T = strain_stress(E);
   // ∂J/∂F = F adj(C)/J (from 2J dJ = d det C = adj(C) : dC, dC = 2 sym(Fᵀ dF)).
   if (J > 0.0) T += (area_d1(J) / J) * adjugate(C);
   return F * T;
@@ -151,7 +215,7 @@ Eigen::Matrix<double, 6, 6> InplaneMaterial::dpk1_surface(
   const double J = std::sqrt(std::max(det2(C), 0.0));
   if (has_barrier() && !(J > 0.0)) return Eigen::Matrix<double, 6, 6>::Zero();
   const Eigen::Matrix2d E = 0.5 * (C - Eigen::Matrix2d::Identity());
-  const Eigen::Matrix2d S = stvk_stress(E);
+  const Eigen::Matrix2d S = strain_stress(E);
   const bool area_smooth = J > 0.0;
   const Eigen::Matrix2d adjC = adjugate(C);
   // P_area = F T with T = (f'/J) adj(C):
@@ -162,7 +226,7 @@ Eigen::Matrix<double, 6, 6> InplaneMaterial::dpk1_surface(
   for (int c = 0; c < 6; ++c) {
     Matrix32 dF = Matrix32::Zero();
     dF(c % 3, c / 3) = 1.0;
-    Matrix32 dP = stvk_pk1_direction<3>(*this, F, S, dF);
+    Matrix32 dP = stvk_pk1_direction<3>(*this, F, E, S, dF);
     if (area_smooth) {
       const Eigen::Matrix2d dFtF = dF.transpose() * F;
       const Eigen::Matrix2d dC = dFtF + dFtF.transpose();

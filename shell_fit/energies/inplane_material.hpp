@@ -22,12 +22,21 @@
 //   value is finite but √det C is not differentiable, so the area term's derivatives are
 //   dropped there (never NaN).
 //
-// The law is linear in each of the six parameters, which the fit exploits (see
+// The "stiffening" model adds the lock-up terms (lockup_curve.hpp) on the material-frame
+// strains, Ψ += φ_x(ε1) + φ_y(ε2) + φ_s(|ε3|), each zero for a non-positive argument, so
+//   S_m += [[φ_x'(ε1), sgn(ε3) φ_s'(|ε3|)], [sgn(ε3) φ_s'(|ε3|), φ_y'(ε2)]],
+// and the StVK stress S = R S_m Rᵀ above becomes nonlinear in E (its tangent adds
+// diag(φ_x'', φ_y'') on the normal strains and φ_s'' on the shear). With l = 0 the terms vanish
+// and the law is exactly eq. 6.1.
+//
+// The law is linear in every parameter except the lock-up rates b; parameter_derivative()
+// builds the law whose Ψ is ∂Ψ/∂p_k, which the fit's sensitivities use (see
 // MembraneTerm::add_gradient_per_parameter).
 
 #include <Eigen/Core>
 
 #include "shell_fit/core/shell_params.hpp"
+#include "shell_fit/energies/lockup_curve.hpp"
 
 namespace yarnfit::shell {
 
@@ -35,6 +44,10 @@ class InplaneMaterial {
  public:
   // `material_angle`: weft axis angle from the lab x axis [rad].
   InplaneMaterial(const InplaneParams& p, double material_angle);
+
+  // The law whose Ψ, P and ∂P/∂F are the derivatives of this law's with respect to parameter
+  // k (the order of k_inplane_param_names) at `p`.
+  [[nodiscard]] static InplaneMaterial parameter_derivative(const InplaneParams& p, double material_angle, int k);
 
   // Planar 2×2 deformation gradient in the lab frame; J = det F (signed).
   // Energy density [J/m²]: +∞ when J ≤ 0 and kn2 ≠ 0; never NaN for finite F.
@@ -58,6 +71,12 @@ class InplaneMaterial {
   // Second Piola-Kirchhoff stress of the StVK part in the lab frame, S = R 𝕂(Rᵀ E R) Rᵀ,
   // for a symmetric lab-frame strain E. Linear in E.
   [[nodiscard]] Eigen::Matrix2d stvk_stress(const Eigen::Matrix2d& E) const;
+  // The StVK part plus the lock-up terms (the whole second Piola-Kirchhoff stress but the
+  // area terms), and its directional derivative dS for a strain increment dE at E.
+  [[nodiscard]] Eigen::Matrix2d strain_stress(const Eigen::Matrix2d& E) const;
+  [[nodiscard]] Eigen::Matrix2d strain_stress_direction(const Eigen::Matrix2d& E, const Eigen::Matrix2d& dE) const;
+  // ½ εᵀKε plus the lock-up energies at the lab-frame strain E [J/m²].
+  [[nodiscard]] double strain_energy(const Eigen::Matrix2d& E) const;
 
  private:
   // True when the log-barrier term is present (kn2 ≠ 0): the domain is then J > 0.
@@ -67,7 +86,13 @@ class InplaneMaterial {
   [[nodiscard]] double area_d1(double J) const;
   [[nodiscard]] double area_d2(double J) const;
 
+  [[nodiscard]] bool has_lockup() const {
+    return m_lockup[0].active() || m_lockup[1].active() || m_lockup[2].active();
+  }
+
   InplaneParams m_params;
+  // Lock-up along weft (ε1), warp (ε2) and shear (|ε3|).
+  LockupCurve m_lockup[3];
   double m_material_angle = 0.0;
   Eigen::Matrix2d m_rotation;  // columns: weft and warp axes in the lab frame
 };

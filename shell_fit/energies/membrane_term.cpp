@@ -15,35 +15,11 @@ namespace {
 // Below this many elements the OpenMP team costs more than it saves.
 constexpr int k_parallel_threshold = 512;
 
-InplaneParams unit_params(int k) {
-  InplaneParams p;
-  switch (k) {
-    case 0:
-      p.kxx = 1.0;
-      break;
-    case 1:
-      p.kxy = 1.0;
-      break;
-    case 2:
-      p.kyy = 1.0;
-      break;
-    case 3:
-      p.kss = 1.0;
-      break;
-    case 4:
-      p.kn1 = 1.0;
-      break;
-    default:
-      p.kn2 = 1.0;
-      break;
-  }
-  return p;
-}
-
-std::array<InplaneMaterial, MembraneTerm::parameter_count> unit_materials(double angle) {
-  return {InplaneMaterial(unit_params(0), angle), InplaneMaterial(unit_params(1), angle),
-          InplaneMaterial(unit_params(2), angle), InplaneMaterial(unit_params(3), angle),
-          InplaneMaterial(unit_params(4), angle), InplaneMaterial(unit_params(5), angle)};
+std::vector<InplaneMaterial> unit_materials(const InplaneParams& p, double angle) {
+  std::vector<InplaneMaterial> out;
+  out.reserve(MembraneTerm::parameter_count);
+  for (int k = 0; k < MembraneTerm::parameter_count; ++k) out.push_back(InplaneMaterial::parameter_derivative(p, angle, k));
+  return out;
 }
 
 // The per-element kernels, written once for dim = 2 and dim = 3 (Dim rows of F).
@@ -167,7 +143,7 @@ MembraneTerm::MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, i
     : m_dim(dim),
       m_vertex_count(mesh.vertex_count()),
       m_material(params, mesh.material_angle),
-      m_unit_materials(unit_materials(mesh.material_angle)) {
+      m_unit_materials(unit_materials(params, mesh.material_angle)) {
   if (dim != 2 && dim != 3) {
     throw std::invalid_argument("MembraneTerm: dim must be 2 or 3, got " + std::to_string(dim));
   }
@@ -194,6 +170,7 @@ MembraneTerm::MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, i
 
 void MembraneTerm::set_params(const InplaneParams& params) {
   m_material = InplaneMaterial(params, m_material.material_angle());
+  m_unit_materials = unit_materials(params, m_material.material_angle());
 }
 
 void MembraneTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
@@ -216,7 +193,7 @@ void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::M
   check_size(x, dof_count(), "add_gradient_per_parameter");
   if (G.rows() != dof_count() || G.cols() != parameter_count) {
     throw std::invalid_argument("MembraneTerm::add_gradient_per_parameter: G must be " +
-                                std::to_string(dof_count()) + " x 6, got " +
+                                std::to_string(dof_count()) + " x " + std::to_string(parameter_count) + ", got " +
                                 std::to_string(G.rows()) + " x " + std::to_string(G.cols()));
   }
   for (int k = 0; k < parameter_count; ++k) {
@@ -226,9 +203,9 @@ void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::M
   }
 }
 
-Eigen::Matrix<double, 6, 1> MembraneTerm::value_per_parameter(const Eigen::VectorXd& x) const {
+MembraneTerm::ParameterVector MembraneTerm::value_per_parameter(const Eigen::VectorXd& x) const {
   check_size(x, dof_count(), "value_per_parameter");
-  Eigen::Matrix<double, 6, 1> v;
+  ParameterVector v;
   for (int k = 0; k < parameter_count; ++k) {
     double e = 0.0;
     with_kernel(m_dim, m_elements, m_unit_materials[static_cast<std::size_t>(k)],

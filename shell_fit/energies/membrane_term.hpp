@@ -13,9 +13,10 @@
 //   ∂E/∂x_i = A P b_i,   ∂²E/∂x_i∂x_j = A (b_i ⊗ I)ᵀ ∂P/∂F (b_j ⊗ I)
 // assembled as 6×6 (dim 2) or 9×9 (dim 3) blocks, optionally projected to PSD per element.
 //
-// Ψ is linear in each parameter p = (kxx, kxy, kyy, kss, kn1, kn2), so the parameter
-// sensitivities of the energy and of its gradient are the same term evaluated with a unit
-// parameter k and the others zero (used for implicit-function sensitivities in the fit).
+// The parameter sensitivities of the energy and of its gradient are the same term evaluated
+// with the law ∂Ψ/∂p_k (InplaneMaterial::parameter_derivative: for the parameters Ψ is linear
+// in, a unit parameter k and the others zero), used for implicit-function sensitivities in
+// the fit. p = the twelve of k_inplane_param_names (eq. 6.1's six, then the lock-up pairs).
 
 #include <Eigen/Core>
 #include <array>
@@ -31,7 +32,7 @@ namespace yarnfit::shell {
 
 class MembraneTerm final : public numerics::EnergyTerm {
  public:
-  static constexpr int parameter_count = 6;  // kxx, kxy, kyy, kss, kn1, kn2
+  static constexpr int parameter_count = k_inplane_param_count;  // k_inplane_param_names
 
   // Copies what it needs from `mesh` (no reference is kept). Throws std::invalid_argument when
   // dim is not 2 or 3 or a triangle has non-positive rest area (not counter-clockwise).
@@ -42,11 +43,12 @@ class MembraneTerm final : public numerics::EnergyTerm {
   void add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override;
   void add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, const numerics::HessianOptions& options) const override;
 
-  // Adds ∂(∇E)/∂p_k into column k of `G` (#dofs × 6), p = (kxx, kxy, kyy, kss, kn1, kn2).
+  using ParameterVector = Eigen::Matrix<double, parameter_count, 1>;
+  // Adds ∂(∇E)/∂p_k into column k of `G` (#dofs × parameter_count).
   void add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const;
-  // ∂E/∂p_k = E evaluated with unit parameter k and the others zero; so E = Σ_k p_k · entry k
-  // wherever E is finite.
-  [[nodiscard]] Eigen::Matrix<double, 6, 1> value_per_parameter(const Eigen::VectorXd& x) const;
+  // ∂E/∂p_k; for the parameters E is linear in (all but the lock-up rates) this is E with unit
+  // parameter k and the others zero, so E = Σ_{k linear} p_k · entry k wherever E is finite.
+  [[nodiscard]] ParameterVector value_per_parameter(const Eigen::VectorXd& x) const;
 
   // Changes the stiffnesses without rebuilding the rest geometry (the fit does this often).
   void set_params(const InplaneParams& params);
@@ -67,8 +69,8 @@ class MembraneTerm final : public numerics::EnergyTerm {
   int m_vertex_count = 0;
   std::vector<Element> m_elements;
   InplaneMaterial m_material;
-  // The six unit-parameter laws, for the per-parameter derivatives.
-  std::array<InplaneMaterial, parameter_count> m_unit_materials;
+  // The laws ∂Ψ/∂p_k at the current parameters, for the per-parameter derivatives.
+  std::vector<InplaneMaterial> m_unit_materials;
 };
 
 }  // namespace yarnfit::shell

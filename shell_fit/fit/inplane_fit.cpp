@@ -4,6 +4,7 @@
 
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
+#include "shell_fit/energies/lockup_curve.hpp"
 
 #include <Eigen/QR>
 
@@ -21,10 +22,21 @@ namespace yarnfit::shell {
 
 namespace {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
+using VecP = Eigen::Matrix<double, k_inplane_param_count, 1>;
 
-Vec6 to_vec(const InplaneParams& p) { return (Vec6() << p.kxx, p.kxy, p.kyy, p.kss, p.kn1, p.kn2).finished(); }
-InplaneParams from_vec(const Vec6& v) { return {v[0], v[1], v[2], v[3], v[4], v[5]}; }
+VecP to_vec(const InplaneParams& p) {
+  const auto a = to_array(p);
+  return Eigen::Map<const VecP>(a.data());
+}
+InplaneParams from_vec(const VecP& v) {
+  std::array<double, k_inplane_param_count> a{};
+  Eigen::Map<VecP>(a.data()) = v;
+  return inplane_from_array(a);
+}
+
+// The lock-up rates are searched in linear space (b = 0, a cubic stiffening, is a natural
+// value); every other parameter in log space.
+bool searched_in_log(int k) { return !is_lockup_rate(k); }
 
 
 // Least-squares slope through the origin over the first third of the range: the small-strain
@@ -171,7 +183,7 @@ namespace {
 class StretchResiduals : public ceres::CostFunction {
  public:
   StretchResiduals(std::vector<ClampedStretchScene>& scenes, std::vector<DirectionFit>& data,
-                   const std::vector<int>& free, const Vec6& held, int threads, int& simulations)
+                   const std::vector<int>& free, const VecP& held, int threads, int& simulations)
       : m_scenes(scenes), m_data(data), m_free(free), m_held(held), m_threads(threads), m_simulations(simulations),
         m_warm(scenes.size()) {
     int n = 0;
@@ -184,9 +196,9 @@ class StretchResiduals : public ceres::CostFunction {
     mutable_parameter_block_sizes()->push_back(static_cast<int>(m_free.size()));
   }
 
-  Vec6 params_from(const double* q) const {
-    Vec6 p = m_held;
-    for (std::size_t i = 0; i < m_free.size(); ++i) p[m_free[i]] = std::exp(q[i]);
+  VecP params_from(const double* q) const {
+    VecP p = m_held;
+    for (std::size_t i = 0; i < m_free.size(); ++i) p[m_free[i]] = searched_in_log(m_free[i]) ? std::exp(q[i]) : q[i];
     return p;
   }
 
@@ -221,8 +233,12 @@ class StretchResiduals : public ceres::CostFunction {
 
  private:
   bool simulate(const std::vector<double>& q) const {
-    const Vec6 p = params_from(q.data());
+    const VecP p = params_from(q.data());
     const InplaneParams ip = from_vec(p);
+    // ∂p/∂q of the search variables: p for log-space parameters, 1 for linear ones.
+    VecP dp_dq = VecP::Ones();
+    for (int i : m_free)
+      if (searched_in_log(i)) dp_dq[i] = p[i];
     std::vector<ClampedStretchRun> runs(m_data.size());
 #pragma omp parallel for num_threads(m_threads) schedule(dynamic)
     for (int k = 0; k < static_cast<int>(m_data.size()); ++k) {
@@ -254,7 +270,7 @@ class StretchResiduals : public ceres::CostFunction {
         for (int j = 0; j < nf; ++j) {
           const auto fj = static_cast<std::size_t>(m_free[static_cast<std::size_t>(j)]);
           m_jac[ur * static_cast<std::size_t>(nf) + static_cast<std::size_t>(j)] =
-              m_force_weight[k] * smp.dforce_dp[static_cast<Eigen::Index>(fj)] * p[static_cast<Eigen::Index>(fj)];
+              m_force_weight[k] * smp.dforce_dp[static_cast<Eigen::Index>(fj)] * dp_dq[static_cast<Eigen::Index>(fj)];
         }
         ++r;
         if (d.measured_compression.empty()) continue;
@@ -263,7 +279,7 @@ class StretchResiduals : public ceres::CostFunction {
         for (int j = 0; j < nf; ++j) {
           const auto fj = static_cast<std::size_t>(m_free[static_cast<std::size_t>(j)]);
           m_jac[uc * static_cast<std::size_t>(nf) + static_cast<std::size_t>(j)] =
-              m_comp_weight[k] * smp.dcompression_dp[static_cast<Eigen::Index>(fj)] * p[static_cast<Eigen::Index>(fj)];
+              m_comp_weight[k] * smp.dcompression_dp[static_cast<Eigen::Index>(fj)] * dp_dq[static_cast<Eigen::Index>(fj)];
         }
         ++r;
       }
@@ -274,7 +290,7 @@ class StretchResiduals : public ceres::CostFunction {
   std::vector<ClampedStretchScene>& m_scenes;
   std::vector<DirectionFit>& m_data;
   std::vector<int> m_free;
-  Vec6 m_held;
+  VecP m_held;
   int m_threads;
   int& m_simulations;
   std::vector<double> m_force_weight, m_comp_weight;
@@ -293,9 +309,91 @@ namespace {
 constexpr int k_max_restarts = 3;
 }  // namespace
 
+namespace {
+
+// One fit of options.model from the thesis-model starts (inplane_starts), or, for the
+// stiffening model, from `lockup_starts` when given.
+InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
+                                  std::vector<InplaneStart> lockup_starts);
+
+// The lock-up pair (l, b) of a test direction: indices into k_inplane_param_names.
+int lockup_index(db::Direction d) {
+  switch (d) {
+    case db::Direction::weft: return 6;
+    case db::Direction::warp: return 8;
+    default: return 10;
+  }
+}
+
+// Lock-up starting values from a measured curve: the rate b = 2/ε_max puts e² of growth at
+// the end of the fitted range, and l makes the term's tangent there carry the stiffening the
+// curve shows beyond its small-strain slope (d(line force)/ds ≈ λ² φ''(ε) for the pull).
+std::pair<double, double> lockup_guess(const db::StretchTest& t, double max_line_force) {
+  const DirectionFit d = make_direction_targets(t, max_line_force);
+  std::vector<double> line_force(t.curve.force);
+  for (double& f : line_force) f /= t.swatch.width;
+  const double E0 = std::max(initial_slope(t.curve.stretch, line_force), 1e-9);
+  const double s1 = d.max_stretch, s0 = s1 * 5.0 / 6.0;
+  const double E_end = (interpolate_linear(t.curve.stretch, line_force, s1) -
+                        interpolate_linear(t.curve.stretch, line_force, s0)) / std::max(s1 - s0, 1e-12);
+  const double lambda = 1.0 + s1;
+  const double eps = 0.5 * (lambda * lambda - 1.0);
+  const double tangent = std::max(E_end - E0, 0.1 * E0) / (lambda * lambda);
+  const double b = std::clamp(2.0 / std::max(eps, 1e-6), 0.1, 20.0);
+  const double l = tangent / (std::max(eps, 1e-6) * lockup_h(1, b * eps));
+  return {l, b};
+}
+
+}  // namespace
+
 InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& options) {
+  if (options.model == InplaneModel::thesis) return fit_inplane_from(fabric, options, {});
+  // The stiffening model starts from the thesis model's fit (with lock-up added): its
+  // optimum is a point of the larger model, so the larger model never ends worse than it
+  // from that start; and from the balanced small-strain split with lock-up from the curves.
+  InplaneFitOptions thesis_options = options;
+  thesis_options.model = InplaneModel::thesis;
+  const InplaneFitResult thesis = fit_inplane(fabric, thesis_options);
+  std::vector<InplaneStart> starts;
+  const auto with_lockup = [&](InplaneParams p, double l_factor, bool from_data) {
+    auto v = to_array(p);
+    for (const auto& [dir, t] : fabric.stretch_tests) {
+      const auto [l, b] = lockup_guess(t, options.max_line_force);
+      const auto i = static_cast<std::size_t>(lockup_index(dir));
+      v[i] = from_data ? l : l_factor * l;
+      v[i + 1] = from_data ? b : 1.0;
+    }
+    return inplane_from_array(v);
+  };
+  const auto add = [&](const std::string& name, const InplaneParams& p) {
+    InplaneStart st;
+    st.name = name;
+    st.params = p;
+    starts.push_back(st);
+  };
+  if (!std::isnan(thesis.stretch_force_pct)) {  // the thesis fit reached an evaluated point
+    add("thesis-model fit with lock-up from the curves' ends", with_lockup(thesis.params, 1.0, true));
+    add("thesis-model fit with weak lock-up (1 % of the curves', rate 1)", with_lockup(thesis.params, 0.01, false));
+  }
+  add("balanced small-strain split with lock-up from the curves' ends",
+      with_lockup(initial_inplane_guess(fabric), 1.0, true));
+  InplaneFitResult r = fit_inplane_from(fabric, options, starts);
+  r.thesis_stretch_force_pct = thesis.stretch_force_pct;
+  r.thesis_compression_pct = thesis.compression_pct;
+  r.thesis_params = thesis.params;
+  r.seconds += thesis.seconds;
+  r.simulations += thesis.simulations;
+  r.iterations += thesis.iterations;
+  return r;
+}
+
+namespace {
+
+InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
+                                  std::vector<InplaneStart> lockup_starts) {
   const auto start_time = std::chrono::steady_clock::now();
   InplaneFitResult result;
+  result.model = options.model;
   if (fabric.stretch_tests.empty()) {
     result.message = "the fabric has no stretch test";
     result.errors_reason = result.message;
@@ -308,11 +406,11 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
 
   result.starts = inplane_starts(fabric);
   result.start = result.starts[0].params;
-  Vec6 held = to_vec(result.start);
+  VecP held = to_vec(result.start);
   // Which parameters the tests determine (indices into kxx kxy kyy kss kn1 kn2).
   std::vector<int> free;
   auto note = [&](int i, const std::string& why) {
-    result.not_identified.push_back(std::string(k_inplane_names[i]) + ": " + why);
+    result.not_identified.push_back(std::string(k_inplane_param_names[i]) + ": " + why);
   };
   if (has[0]) free.push_back(0);
   else note(0, "no weft test (held equal to kyy, isotropic prior)");
@@ -338,7 +436,32 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     note(4, "no compression measured (held at 0)");
     note(5, "no compression measured (weak barrier 1e-3*sqrt(kxx*kyy))");
   }
-  for (int i : free) result.identified.push_back(k_inplane_names[i]);
+  if (options.model == InplaneModel::stiffening) {
+    // The lock-up of every tested direction; an untested one has none (held at 0).
+    for (const db::Direction d : {db::Direction::weft, db::Direction::warp, db::Direction::bias}) {
+      const int i = lockup_index(d);
+      if (fabric.stretch_tests.count(d)) {
+        free.push_back(i);
+        free.push_back(i + 1);
+      } else {
+        note(i, "no " + std::string(db::to_string(d)) + " test (no lock-up: held at 0)");
+        note(i + 1, "no " + std::string(db::to_string(d)) + " test (no lock-up)");
+      }
+    }
+    if (!lockup_starts.empty()) {
+      for (auto& st : lockup_starts) {
+        // Held parameters follow the thesis-model logic above (priors), whatever the start says.
+        VecP v = to_vec(st.params);
+        for (int k = 0; k < k_inplane_param_count; ++k)
+          if (std::find(free.begin(), free.end(), k) == free.end()) v[k] = k >= k_first_lockup_param ? 0.0 : held[k];
+        st.params = from_vec(v);
+      }
+      result.starts = lockup_starts;
+      result.start = result.starts[0].params;
+    }
+  }
+  std::sort(free.begin(), free.end());
+  for (int i : free) result.identified.push_back(k_inplane_param_names[i]);
   if (options.start_iterations <= 0) result.starts.resize(1);
 
   std::vector<ClampedStretchScene> scenes;
@@ -349,13 +472,24 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     result.directions.push_back(make_direction_targets(t, options.max_line_force));
   }
 
-  // Bounds keep the search physical: 1e-4…1e4 times the data-based axial scale.
+  // Bounds keep the search physical: stiffnesses 1e-4…1e4 times the data-based axial scale
+  // (lock-up stiffnesses from 1e-6 of it, which is no lock-up), rates 0…k_max_lockup_rate.
   const double scale = std::sqrt(held[0] * held[2]);
-  const double q_lo = std::log(1e-4 * scale), q_hi = std::log(1e4 * scale);
+  const auto bounds_of = [&](int k) -> std::pair<double, double> {
+    if (is_lockup_rate(k)) return {0.0, k_max_lockup_rate};
+    return {(k >= k_first_lockup_param ? 1e-6 : 1e-4) * scale, 1e4 * scale};
+  };
+  const auto q_bounds = [&](int k) -> std::pair<double, double> {
+    const auto [lo, hi] = bounds_of(k);
+    return searched_in_log(k) ? std::pair{std::log(lo), std::log(hi)} : std::pair{lo, hi};
+  };
   const auto start_q = [&](const InplaneParams& params) {
-    const Vec6 v = to_vec(params);
+    const VecP v = to_vec(params);
     std::vector<double> q;
-    for (int i : free) q.push_back(std::clamp(std::log(v[i]), q_lo, q_hi));
+    for (int i : free) {
+      const auto [lo, hi] = q_bounds(i);
+      q.push_back(std::clamp(searched_in_log(i) ? std::log(std::max(v[i], 1e-300)) : v[i], lo, hi));
+    }
     return q;
   };
   // One cost function per start: each keeps the warm starts of its own path, so the best
@@ -385,8 +519,9 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
       ceres::Problem problem(po);
       problem.AddResidualBlock(&cost, nullptr, q.data());
       for (int j = 0; j < static_cast<int>(free.size()); ++j) {
-        problem.SetParameterLowerBound(q.data(), j, q_lo);
-        problem.SetParameterUpperBound(q.data(), j, q_hi);
+        const auto [lo, hi] = q_bounds(free[static_cast<std::size_t>(j)]);
+        problem.SetParameterLowerBound(q.data(), j, lo);
+        problem.SetParameterUpperBound(q.data(), j, hi);
       }
       ceres::Solver::Options so = least_squares_options(max_iterations, 1e-9, 1e-9, &progress);
       so.initial_trust_region_radius = options.initial_trust_region_radius;
@@ -434,7 +569,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   solve(*cost, q, options.max_iterations, summary);
 
   // Re-evaluate at the solution so the reported curves belong to the final parameters.
-  const Vec6 p = cost->params_from(q.data());
+  const VecP p = cost->params_from(q.data());
   std::vector<double> res(static_cast<std::size_t>(cost->num_residuals()));
   const double* blocks[] = {q.data()};
   std::vector<double> jac(res.size() * free.size());
@@ -446,20 +581,29 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
     const Eigen::MatrixXd JtJ = J.transpose() * J;
     const Eigen::MatrixXd cov = JtJ.completeOrthogonalDecomposition().pseudoInverse();
     for (std::size_t j = 0; j < free.size(); ++j) {
-      const double pct = 100.0 * 0.01 * std::sqrt(std::max(cov(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)), 0.0));
-      result.sensitivity_pct[free[j]] = pct;
-      if (!(pct <= k_weak_identification_pct)) result.weakly_identified.push_back(k_inplane_names[free[j]]);
+      // Log-space: the standard deviation of log p is the relative one; linear: divide by p.
+      const double sd = 0.01 * std::sqrt(std::max(cov(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)), 0.0));
+      const double pk = p[free[j]];
+      const double pct = 100.0 * (searched_in_log(free[j]) ? sd : (pk != 0.0 ? sd / std::abs(pk) : std::numeric_limits<double>::infinity()));
+      result.sensitivity_pct[static_cast<std::size_t>(free[j])] = pct;
+      if (!(pct <= k_weak_identification_pct)) result.weakly_identified.push_back(k_inplane_param_names[free[j]]);
     }
   }
   result.params = from_vec(p);
   result.converged = summary.IsSolutionUsable() && final_ok &&
                      summary.termination_type == ceres::CONVERGENCE;
   result.message = final_ok ? summary.BriefReport() : "final evaluation failed: a scene did not reach equilibrium";
-  for (int i : free) result.bounds[k_inplane_names[i]] = {1e-4 * scale, 1e4 * scale};
+  result.hit_iteration_cap = final_ok && summary.termination_type == ceres::NO_CONVERGENCE;
+  if (result.hit_iteration_cap)
+    result.message = "stopped at the iteration cap (" + std::to_string(options.max_iterations) +
+                     " iterations) before converging; the errors are those reached: " + result.message;
+  for (int i : free) result.bounds[k_inplane_param_names[i]] = bounds_of(i);
   for (int j = 0; j < static_cast<int>(free.size()); ++j) {
-    const double lo = std::log(1e-4 * scale), hi = std::log(1e4 * scale);
+    const int k = free[static_cast<std::size_t>(j)];
+    const auto [lo, hi] = q_bounds(k);
+    // 1e-3 of log space is 0.1 %; for a rate, 1e-3 absolute.
     if (q[static_cast<std::size_t>(j)] - lo < 1e-3 || hi - q[static_cast<std::size_t>(j)] < 1e-3)
-      result.at_bounds.push_back(k_inplane_names[free[static_cast<std::size_t>(j)]]);
+      result.at_bounds.push_back(k_inplane_param_names[k]);
   }
 
   if (final_ok) {
@@ -482,5 +626,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;
 }
+
+}  // namespace
 
 }  // namespace yarnfit::shell

@@ -21,6 +21,7 @@
 //   no compression measured → kxy = 0 and kn1 = 0, kn2 = 1e-3·√(kxx·kyy) (a weak barrier
 //     against inversion only), one start.
 
+#include <array>
 #include <functional>
 #include <limits>
 #include <map>
@@ -36,9 +37,14 @@
 namespace yarnfit::shell {
 
 inline constexpr int k_stretch_targets_per_direction = 6;
-inline const char* const k_inplane_names[6] = {"kxx", "kxy", "kyy", "kss", "kn1", "kn2"};
+// Upper bound of the lock-up rates b searched (lower 0): e^{b ε} at ε = 1 is then e^{40}.
+inline constexpr double k_max_lockup_rate = 40.0;
 
 struct InplaneFitOptions {
+  // Which law is fitted (shell_params.hpp). "stiffening" fits eq. 6.1 first and then the
+  // lock-up model from that fit and from the data (see fit_inplane). The default stays the
+  // thesis's law until the side-by-side study on real records (issue 21) has chosen.
+  InplaneModel model = InplaneModel::thesis;
   // Working range: targets are spread over the measured stretch up to the stretch where the
   // line force reaches this [N/m]. The default is the thesis's power range (5 N on a 6 cm
   // swatch, SPEC §3), the range its tests covered; infinity uses every measured point. Tests
@@ -87,7 +93,10 @@ struct InplaneStart {
 };
 
 struct InplaneFitResult {
+  InplaneModel model = InplaneModel::thesis;
   bool converged = false;
+  // The final run stopped at max_iterations (message says so; the errors are those reached).
+  bool hit_iteration_cap = false;
   std::string message;             // Ceres' termination, or why the fit failed
   InplaneParams start;             // data-based starting values (the balanced start)
   std::vector<InplaneStart> starts;  // the multi-start's candidates, in the order tried
@@ -111,8 +120,14 @@ struct InplaneFitResult {
   std::map<std::string, std::pair<double, double>> bounds;
   // How well the tests pin each parameter: the standard deviation of log p [as %] that 1 %
   // noise in every normalised residual would cause, √((JᵀJ)⁻¹_kk)·1 %, from the Jacobian at
-  // the solution. Order kxx kxy kyy kss kn1 kn2; 0 for parameters held at a prior.
-  double sensitivity_pct[6] = {0, 0, 0, 0, 0, 0};
+  // the solution (for a lock-up rate, searched linearly, the standard deviation of b relative
+  // to b). Order k_inplane_param_names; 0 for parameters held at a prior.
+  std::array<double, k_inplane_param_count> sensitivity_pct{};
+  // Stiffening fits only: the thesis-model fit they started from, and its errors [%] (NaN
+  // for a thesis fit), so every stiffening fit shows the two models side by side.
+  InplaneParams thesis_params;
+  double thesis_stretch_force_pct = std::numeric_limits<double>::quiet_NaN();
+  double thesis_compression_pct = std::numeric_limits<double>::quiet_NaN();
   // Fitted, but above k_weak_identification_pct: the data constrain them only loosely, and
   // small model or mesh differences move them by several percent.
   std::vector<std::string> weakly_identified;

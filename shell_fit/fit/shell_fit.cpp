@@ -41,6 +41,7 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
   inplane.refinements = options.refinements;
   inplane.threads = options.threads;
   inplane.max_iterations = options.max_iterations;
+  inplane.model = options.model;
   if (options.full_range) inplane.max_line_force = std::numeric_limits<double>::infinity();
   inplane.progress = options.progress;
   result.inplane = fit_inplane(fabric, inplane);
@@ -122,8 +123,8 @@ nlohmann::json to_json(const ShellFitResult& r) {
   return report;
 }
 
-std::array<std::optional<double>, 9> read_shell_params(const std::filesystem::path& file, db::Problems& problems) {
-  std::array<std::optional<double>, 9> values;
+std::array<std::optional<double>, k_shell_param_count> read_shell_params(const std::filesystem::path& file, db::Problems& problems) {
+  std::array<std::optional<double>, k_shell_param_count> values;
   const std::string label = file.string();
   std::ifstream in(file);
   if (!in) {

@@ -37,6 +37,8 @@ struct ShellFitOptions {
   int max_iterations = 100;  // Ceres iterations of the in-plane fit after its multi-start, 1–1000
   // Fit every measured point, not only up to the power range (83.3 N/m line force).
   bool full_range = false;
+  // The in-plane law fitted (InplaneFitOptions::model; README "Choosing the shell model").
+  InplaneModel model = InplaneFitOptions{}.model;
   // Progress of both fits; seconds count from the start of the stage.
   reports::ProgressFn progress;
 
@@ -72,19 +74,23 @@ struct ShellFitResult {
 // does not converge is a result (converged() false), never an exception.
 ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& options);
 
-// shell_fit.json (SPEC §5): params {kxx, kxy, kyy, kss, kn1, kn2, ktheta_weft, ktheta_bias,
-// ktheta_warp} (k_θ null when not fitted), errors {stretch_force_pct, compression_pct,
+// shell_fit.json (SPEC §5): model ("thesis" or "stiffening"), params {kxx, kxy, kyy, kss,
+// kn1, kn2, ktheta_weft, ktheta_bias, ktheta_warp} (k_θ null when not fitted) plus, for the
+// stiffening model, the lock-up pairs {lxx, bxx, lyy, byy, lss, bss} and thesis_model_fit, errors {stretch_force_pct, compression_pct,
 // bending_pct} (null where there is no figure, with errors_reason), identified,
 // not_identified, effects, timing_s, the in-plane details (inplane_fit_json) and `bending`.
 nlohmann::json to_json(const ShellFitResult& result);
 
-// The keys of shell_fit.json's params, in this order.
-inline const char* const k_shell_param_names[9] = {"kxx", "kxy", "kyy", "kss", "kn1", "kn2",
-                                                   "ktheta_weft", "ktheta_bias", "ktheta_warp"};
+// The keys of shell_fit.json's params, in this order: eq. 6.1's six, the three k_θ, then the
+// lock-up pairs (absent from a thesis-model fit, where they are 0).
+inline constexpr int k_shell_param_count = 15;
+inline const char* const k_shell_param_names[k_shell_param_count] = {
+    "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "ktheta_weft", "ktheta_bias", "ktheta_warp",
+    "lxx", "bxx", "lyy", "byy", "lss", "bss"};
 
 // The parameters of a shell_fit.json (its `params`, or the top level when there is none), in
 // the order of k_shell_param_names; absent and null (not fitted) ones are empty. Problems
 // name the file and the key (unreadable, not JSON, a value that is not a number, none found).
-std::array<std::optional<double>, 9> read_shell_params(const std::filesystem::path& file, db::Problems& problems);
+std::array<std::optional<double>, k_shell_param_count> read_shell_params(const std::filesystem::path& file, db::Problems& problems);
 
 }  // namespace yarnfit::shell

@@ -2,12 +2,19 @@
 
 #include "reports/metrics/error_metrics.hpp"
 
+#include <cmath>
+
 namespace yarnfit::shell {
 
 namespace {
 
-nlohmann::json params_json(const InplaneParams& p) {
-  return {{"kxx", p.kxx}, {"kxy", p.kxy}, {"kyy", p.kyy}, {"kss", p.kss}, {"kn1", p.kn1}, {"kn2", p.kn2}};
+// Eq. 6.1's six parameters, and the lock-up ones for the stiffening model.
+nlohmann::json params_json(const InplaneParams& p, InplaneModel model) {
+  const auto v = to_array(p);
+  const int n = model == InplaneModel::stiffening ? k_inplane_param_count : k_first_lockup_param;
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < n; ++k) j[k_inplane_param_names[k]] = v[static_cast<std::size_t>(k)];
+  return j;
 }
 
 }  // namespace
@@ -27,13 +34,30 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
   nlohmann::json starts = nlohmann::json::array();
   for (const auto& st : fit.starts) {
     starts.push_back({{"name", st.name},
-                      {"params", params_json(st.params)},
+                      {"params", params_json(st.params, fit.model)},
                       {"usable", st.ok},
                       {"cost", st.ok ? nlohmann::json(st.cost) : nlohmann::json(nullptr)},
                       {"iterations", st.iterations}});
   }
-  return {{"params", params_json(fit.params)},
-          {"start", params_json(fit.start)},
+  nlohmann::json sensitivity = nlohmann::json::object();
+  const int n_params = fit.model == InplaneModel::stiffening ? k_inplane_param_count : k_first_lockup_param;
+  for (int k = 0; k < n_params; ++k) {
+    const double v = fit.sensitivity_pct[static_cast<std::size_t>(k)];
+    sensitivity[k_inplane_param_names[k]] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  }
+  nlohmann::json thesis_model = nullptr;
+  if (fit.model == InplaneModel::stiffening)
+    thesis_model = {{"params", params_json(fit.thesis_params, InplaneModel::thesis)},
+                    {"errors",
+                     {{"stretch_force_pct", reports::pct_json(fit.thesis_stretch_force_pct)},
+                      {"compression_pct", fit.compression_measured ? reports::pct_json(fit.thesis_compression_pct)
+                                                                   : nlohmann::json(nullptr)}}}};
+  return {{"model", to_string(fit.model)},
+          {"params", params_json(fit.params, fit.model)},
+          {"start", params_json(fit.start, fit.model)},
+          // The stiffening fit's starting point: the thesis-model fit, with its errors.
+          {"thesis_model_fit", thesis_model},
+          {"hit_iteration_cap", fit.hit_iteration_cap},
           {"starts", starts},
           {"chosen_start", fit.chosen_start},
           {"errors",
@@ -52,9 +76,7 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
           {"at_bounds", fit.at_bounds},
           {"bounds", bounds_json(fit.bounds)},
           {"weakly_identified", fit.weakly_identified},
-          {"sensitivity_pct_per_pct_noise",
-           {{"kxx", fit.sensitivity_pct[0]}, {"kxy", fit.sensitivity_pct[1]}, {"kyy", fit.sensitivity_pct[2]},
-            {"kss", fit.sensitivity_pct[3]}, {"kn1", fit.sensitivity_pct[4]}, {"kn2", fit.sensitivity_pct[5]}}},
+          {"sensitivity_pct_per_pct_noise", sensitivity},
           {"converged", fit.converged},
           {"message", fit.message},
           {"iterations", fit.iterations},
@@ -66,7 +88,10 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
 
 nlohmann::json bounds_json(const std::map<std::string, std::pair<double, double>>& bounds) {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& [name, range] : bounds) j[name] = {{"lower", range.first}, {"upper", range.second}, {"log", true}};
+  // Every bound is searched in log space except the lock-up rates (b), searched linearly.
+  for (const auto& [name, range] : bounds)
+    j[name] = {{"lower", range.first}, {"upper", range.second},
+               {"log", name != "bxx" && name != "byy" && name != "bss"}};
   return j;
 }
 

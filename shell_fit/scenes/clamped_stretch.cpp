@@ -305,41 +305,42 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
         out.message = "sensitivities: the equilibrium Hessian could not be factorised";
         return out;
       }
-      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 6);
+      constexpr int np = k_inplane_param_count;
+      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, np);
       membrane.add_gradient_per_parameter(x, G);
-      Eigen::MatrixXd rhs(nf, 7);
+      Eigen::MatrixXd rhs(nf, np + 1);
       for (int d = 0; d < n; ++d) {
         const int f = free_index[static_cast<std::size_t>(d)];
         if (f < 0) continue;
-        rhs.block<1, 6>(f, 0) = -G.row(d);
+        rhs.block<1, np>(f, 0) = -G.row(d);
       }
-      rhs.col(6) = -hfc_du;
-      const Eigen::MatrixXd sol = ldlt.solve(rhs);  // columns: dx_f/dp_k (k < 6), dx_f/du
+      rhs.col(np) = -hfc_du;
+      const Eigen::MatrixXd sol = ldlt.solve(rhs);  // columns: dx_f/dp_k (k < np), dx_f/du
       // Full-length dx/dp and dx/du (fixed DOFs: 0 for p, ∂x_c/∂u for u).
-      Eigen::MatrixXd dx(n, 7);
+      Eigen::MatrixXd dx(n, np + 1);
       dx.setZero();
       for (int d = 0; d < n; ++d) {
         const int f = free_index[static_cast<std::size_t>(d)];
         if (f >= 0) dx.row(d) = sol.row(f);
       }
-      dx.col(6) += dxc_du;
+      dx.col(np) += dxc_du;
       // Force = Σ_right g_x: dF = ∂g/∂p + H dx (rows of the right clamp's x DOFs).
       const Eigen::MatrixXd Hdx = H * dx;
-      Eigen::Matrix<double, 7, 1> dF = Eigen::Matrix<double, 7, 1>::Zero();
+      Eigen::Matrix<double, np + 1, 1> dF = Eigen::Matrix<double, np + 1, 1>::Zero();
       for (int v : m_right) {
         dF += Hdx.row(k_dim * v).transpose();
-        dF.head<6>() += G.row(k_dim * v).transpose();
+        dF.head<np>() += G.row(k_dim * v).transpose();
       }
       Eigen::VectorXd dmeasured(n);
       measured(x, &dmeasured);
-      const Eigen::Matrix<double, 7, 1> dm = dx.transpose() * dmeasured;
-      const Eigen::Matrix<double, 7, 1> dc = -(dx.transpose() * dwidth) / m_rest_wid;
+      const Eigen::Matrix<double, np + 1, 1> dm = dx.transpose() * dmeasured;
+      const Eigen::Matrix<double, np + 1, 1> dc = -(dx.transpose() * dwidth) / m_rest_wid;
       // Hold the measured stretch: u moves with p unless the stretch is read at the clamps.
-      Eigen::Matrix<double, 6, 1> du_dp = Eigen::Matrix<double, 6, 1>::Zero();
-      if (!m_stretch_from_clamps) du_dp = -dm.head<6>() / dm[6];
-      sample.dforce_dp = dF.head<6>() + dF[6] * du_dp;
-      sample.dcompression_dp = dc.head<6>() + dc[6] * du_dp;
-      if (dm[6] > 0.0) slope = dm[6];
+      ClampedStretchSample::ParameterVector du_dp = ClampedStretchSample::ParameterVector::Zero();
+      if (!m_stretch_from_clamps) du_dp = -dm.head<np>() / dm[np];
+      sample.dforce_dp = dF.head<np>() + dF[np] * du_dp;
+      sample.dcompression_dp = dc.head<np>() + dc[np] * du_dp;
+      if (dm[np] > 0.0) slope = dm[np];
     }
     sample.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - target_start).count();
     out.samples.push_back(sample);

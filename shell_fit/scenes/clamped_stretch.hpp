@@ -61,9 +61,10 @@ struct ClampedStretchSample {
   int newton_iterations = 0;      // spent on this target (warm start, secant, load steps)
   double residual = 0.0;          // largest force on a free node at the equilibrium [N]
   double seconds = 0.0;           // wall time of this target
-  // d(force)/dp and d(compression)/dp at fixed measured stretch, p = (kxx kxy kyy kss kn1 kn2)
-  Eigen::Matrix<double, 6, 1> dforce_dp = Eigen::Matrix<double, 6, 1>::Zero();
-  Eigen::Matrix<double, 6, 1> dcompression_dp = Eigen::Matrix<double, 6, 1>::Zero();
+  // d(force)/dp and d(compression)/dp at fixed measured stretch, p = k_inplane_param_names
+  using ParameterVector = Eigen::Matrix<double, k_inplane_param_count, 1>;
+  ParameterVector dforce_dp = ParameterVector::Zero();
+  ParameterVector dcompression_dp = ParameterVector::Zero();
 };
 
 struct ClampedStretchRun {

@@ -11,8 +11,15 @@ using nlohmann::json;
 json params_json(const ShellParams& p) {
   const auto& i = p.inplane;
   const auto& k = p.bending.ktheta;
-  return {{"kxx", i.kxx}, {"kxy", i.kxy}, {"kyy", i.kyy}, {"kss", i.kss}, {"kn1", i.kn1}, {"kn2", i.kn2},
-          {"ktheta_weft", k[0]}, {"ktheta_bias", k[1]}, {"ktheta_warp", k[2]}};
+  json j = {{"kxx", i.kxx}, {"kxy", i.kxy}, {"kyy", i.kyy}, {"kss", i.kss}, {"kn1", i.kn1}, {"kn2", i.kn2},
+            {"ktheta_weft", k[0]}, {"ktheta_bias", k[1]}, {"ktheta_warp", k[2]}};
+  // The lock-up terms only when the law has them (eq. 6.1 otherwise, as before).
+  const auto v = to_array(i);
+  bool lockup = false;
+  for (int n = k_first_lockup_param; n < k_inplane_param_count; ++n) lockup |= v[static_cast<std::size_t>(n)] != 0.0;
+  if (lockup)
+    for (int n = k_first_lockup_param; n < k_inplane_param_count; ++n) j[k_inplane_param_names[n]] = v[static_cast<std::size_t>(n)];
+  return j;
 }
 
 json stretch_run_json(const ClampedStretchSetup& setup, const ClampedStretchScene& scene,

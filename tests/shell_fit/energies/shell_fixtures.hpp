@@ -121,6 +121,19 @@ inline InplaneParams sample_inplane() {
   return p;
 }
 
+// The same with lock-up along weft, warp and shear (the stiffening model), rates from a
+// polynomial-like 0.5 to a sharp 6.
+inline InplaneParams sample_stiffening() {
+  InplaneParams p = sample_inplane();
+  p.lxx = 400.0;
+  p.bxx = 6.0;
+  p.lyy = 150.0;
+  p.byy = 0.5;
+  p.lss = 30.0;
+  p.bss = 3.0;
+  return p;
+}
+
 inline std::vector<double> test_angles() { return {0.0, pi / 4.0, pi / 2.0, 0.7313}; }
 
 inline Eigen::Matrix3d rotation3(double a, double b, double c) {

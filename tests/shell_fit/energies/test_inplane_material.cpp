@@ -42,12 +42,14 @@ double best_fd_error(const Fn& f, const Arg& F, const Eigen::MatrixXd& analytic)
   return best;
 }
 
-TEST(InplaneMaterialTest, DerivativesMatchFiniteDifferences) {
+// ψ → P and P → ∂P/∂F by central differences, planar and surface, at random deformations
+// (stretch, compression and shear up to ±30 % in F) in every test material frame.
+void expect_derivatives_match_finite_differences(const InplaneParams& params, const char* name) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
   double worst_pk1 = 0.0, worst_dpk1 = 0.0;
   for (const double angle : test_angles()) {
-    const InplaneMaterial m(sample_inplane(), angle);
+    const InplaneMaterial m(params, angle);
     for (int trial = 0; trial < 5; ++trial) {
       Eigen::Matrix2d F = Eigen::Matrix2d::Identity();
       F += Eigen::Matrix2d::NullaryExpr([&] { return u(rng); });
@@ -82,8 +84,83 @@ TEST(InplaneMaterialTest, DerivativesMatchFiniteDifferences) {
       worst_dpk1 = std::max(worst_dpk1, e4);
     }
   }
-  std::printf("InplaneMaterial FD: worst best-step rel. error pk1 %.2e, dpk1 %.2e\n", worst_pk1,
+  std::printf("InplaneMaterial FD (%s): worst best-step rel. error pk1 %.2e, dpk1 %.2e\n", name, worst_pk1,
               worst_dpk1);
+}
+
+TEST(InplaneMaterialTest, DerivativesMatchFiniteDifferences) {
+  expect_derivatives_match_finite_differences(sample_inplane(), "eq. 6.1");
+}
+
+TEST(InplaneMaterialTest, StiffeningDerivativesMatchFiniteDifferences) {
+  expect_derivatives_match_finite_differences(sample_stiffening(), "stiffening");
+}
+
+// With every lock-up stiffness l = 0 the stiffening law is eq. 6.1 exactly, whatever the rates.
+TEST(InplaneMaterialTest, StiffeningWithoutLockupIsTheThesisLawBitwise) {
+  InplaneParams q = sample_inplane();
+  q.bxx = 7.0;
+  q.byy = 0.3;
+  q.bss = 2.0;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  for (const double angle : test_angles()) {
+    const InplaneMaterial thesis(sample_inplane(), angle), zero_lockup(q, angle);
+    for (int trial = 0; trial < 5; ++trial) {
+      const Eigen::Matrix2d F = Eigen::Matrix2d::Identity() + Eigen::Matrix2d::NullaryExpr([&] { return u(rng); });
+      EXPECT_EQ(zero_lockup.psi(F), thesis.psi(F));
+      EXPECT_EQ(zero_lockup.pk1(F), thesis.pk1(F));
+      EXPECT_EQ(zero_lockup.dpk1(F), thesis.dpk1(F));
+    }
+  }
+}
+
+// The lock-up adds nothing at small strain and, along a pure weft pull with no lateral
+// strain, exactly φ(ε1) with φ(x) = l (e^{bx} − 1 − bx − b²x²/2)/b³ to eq. 6.1's energy.
+TEST(InplaneMaterialTest, LockupAddsTheClosedFormAlongAWeftPull) {
+  const InplaneParams p = sample_stiffening();
+  const InplaneMaterial thesis(sample_inplane(), 0.0), stiff(p, 0.0);
+  for (const double s : {0.05, 0.2, 0.5}) {
+    const Eigen::Matrix2d F = Eigen::Vector2d(1 + s, 1.0).asDiagonal();
+    const double e = 0.5 * ((1 + s) * (1 + s) - 1.0);
+    const double b = p.bxx;
+    const double phi = p.lxx * (std::exp(b * e) - 1 - b * e - b * b * e * e / 2) / (b * b * b);
+    EXPECT_NEAR(stiff.psi(F) - thesis.psi(F), phi, 1e-12 * std::max(1.0, phi)) << "s " << s;
+    // Stress: P00 = (1+s) φ'(e) more, φ' = l (e^{be} − 1 − be)/b².
+    const double dphi = p.lxx * (std::exp(b * e) - 1 - b * e) / (b * b);
+    EXPECT_NEAR(stiff.pk1(F)(0, 0) - thesis.pk1(F)(0, 0), (1 + s) * dphi, 1e-11 * std::max(1.0, dphi));
+  }
+  // Compression along the weft engages no lock-up (⟨ε⟩₊).
+  const Eigen::Matrix2d C = Eigen::Vector2d(0.8, 1.0).asDiagonal();
+  EXPECT_EQ(stiff.psi(C), thesis.psi(C));
+}
+
+// ∂ψ/∂p_k and ∂P/∂p_k of the parameter-derivative laws against central differences in p_k,
+// for all twelve parameters (the lock-up rates enter nonlinearly).
+TEST(InplaneMaterialTest, ParameterDerivativeLawsMatchFiniteDifferences) {
+  const InplaneParams p = sample_stiffening();
+  const auto base = to_array(p);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.25, 0.25);
+  for (const double angle : test_angles()) {
+    for (int trial = 0; trial < 3; ++trial) {
+      const Eigen::Matrix2d F = Eigen::Matrix2d::Identity() + Eigen::Matrix2d::NullaryExpr([&] { return u(rng); });
+      for (int k = 0; k < k_inplane_param_count; ++k) {
+        const InplaneMaterial d = InplaneMaterial::parameter_derivative(p, angle, k);
+        const double h = 1e-5 * std::max(std::abs(base[static_cast<std::size_t>(k)]), 1.0);
+        auto up = base, down = base;
+        up[static_cast<std::size_t>(k)] += h;
+        down[static_cast<std::size_t>(k)] -= h;
+        const InplaneMaterial mu(inplane_from_array(up), angle), md(inplane_from_array(down), angle);
+        const double fd_psi = (mu.psi(F) - md.psi(F)) / (2 * h);
+        const Eigen::Matrix2d fd_P = (mu.pk1(F) - md.pk1(F)) / (2 * h);
+        // Relative 1e-7, with a floor for the differences' round-off (ψ is O(1) J/m² here).
+        EXPECT_NEAR(d.psi(F), fd_psi, 1e-7 * std::abs(fd_psi) + 1e-9) << k_inplane_param_names[k];
+        EXPECT_LE((d.pk1(F) - fd_P).lpNorm<Eigen::Infinity>(), 1e-7 * fd_P.lpNorm<Eigen::Infinity>() + 1e-9)
+            << k_inplane_param_names[k] << " angle " << angle;
+      }
+    }
+  }
 }
 
 TEST(InplaneMaterialTest, ZeroAtRestAndAnalyticUniaxial) {

@@ -27,10 +27,11 @@ using Matrix32 = Eigen::Matrix<double, 3, 2>;
 TEST(MembraneTermTest, DerivativesMatchFiniteDifferences) {
   double worst_g = 0.0, worst_h = 0.0;
   unsigned seed = 1;
+  for (const InplaneParams& params : {sample_inplane(), sample_stiffening()}) {
   for (const int dim : {2, 3}) {
     for (const double angle : test_angles()) {
       const ShellMesh mesh = jittered_mesh(angle, seed);
-      const MembraneTerm term(mesh, sample_inplane(), dim);
+      const MembraneTerm term(mesh, params, dim);
       for (int trial = 0; trial < 2; ++trial) {
         const Eigen::VectorXd x = random_deformation(mesh, dim, ++seed);
         DerivativeCheckOptions o;
@@ -42,6 +43,7 @@ TEST(MembraneTermTest, DerivativesMatchFiniteDifferences) {
         worst_h = std::max(worst_h, r.hessian_error);
       }
     }
+  }
   }
   std::printf("MembraneTerm FD: worst best-step rel. error gradient %.2e, Hessian %.2e\n", worst_g,
               worst_h);
@@ -135,32 +137,34 @@ TEST(MembraneTermTest, InvertedTriangleIsInvalidNeverNaN) {
 }
 
 TEST(MembraneTermTest, PerParameterDerivativesMatchFiniteDifferences) {
-  const InplaneParams p = sample_inplane();
+  // The stiffening law: all twelve parameters are live (the thesis law is its l = 0 case).
+  const InplaneParams p = sample_stiffening();
+  constexpr int np = MembraneTerm::parameter_count;
   for (const int dim : {2, 3}) {
     const ShellMesh mesh = jittered_mesh(0.6, 9);
     const Eigen::VectorXd x = random_deformation(mesh, dim, 33);
     const MembraneTerm term(mesh, p, dim);
-    const Eigen::Matrix<double, 6, 1> v = term.value_per_parameter(x);
-    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(x.size(), 6);
+    const MembraneTerm::ParameterVector v = term.value_per_parameter(x);
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(x.size(), np);
     term.add_gradient_per_parameter(x, G);
-    const std::array<double, 6> base{p.kxx, p.kxy, p.kyy, p.kss, p.kn1, p.kn2};
-    // E is linear in p: E = Σ p_k ∂E/∂p_k.
+    const auto base = to_array(p);
+    // E is linear in every parameter but the rates: E = Σ_{k linear} p_k ∂E/∂p_k.
     double sum = 0.0;
-    for (int k = 0; k < 6; ++k) sum += base[static_cast<std::size_t>(k)] * v(k);
+    for (int k = 0; k < np; ++k)
+      if (!is_lockup_rate(k)) sum += base[static_cast<std::size_t>(k)] * v(k);
     EXPECT_NEAR(sum, term.value(x), 1e-12 * term.value(x));
-    for (int k = 0; k < 6; ++k) {
-      const double h = 1e-3 * base[static_cast<std::size_t>(k)];
-      std::array<double, 6> up = base, down = base;
+    for (int k = 0; k < np; ++k) {
+      const double h = 1e-4 * std::max(std::abs(base[static_cast<std::size_t>(k)]), 1.0);
+      auto up = base, down = base;
       up[static_cast<std::size_t>(k)] += h;
       down[static_cast<std::size_t>(k)] -= h;
-      const MembraneTerm tu(mesh, {up[0], up[1], up[2], up[3], up[4], up[5]}, dim);
-      const MembraneTerm td(mesh, {down[0], down[1], down[2], down[3], down[4], down[5]}, dim);
+      const MembraneTerm tu(mesh, inplane_from_array(up), dim);
+      const MembraneTerm td(mesh, inplane_from_array(down), dim);
       const double fd_value = (tu.value(x) - td.value(x)) / (2 * h);
       const Eigen::VectorXd fd_grad = (gradient_of(tu, x) - gradient_of(td, x)) / (2 * h);
-      EXPECT_NEAR(fd_value, v(k), 1e-8 * std::abs(v(k))) << "parameter " << k << ", dim " << dim;
-      EXPECT_LE((fd_grad - G.col(k)).lpNorm<Eigen::Infinity>(),
-                1e-8 * G.col(k).lpNorm<Eigen::Infinity>())
-          << "parameter " << k << ", dim " << dim;
+      EXPECT_NEAR(fd_value, v(k), 1e-7 * std::abs(v(k)) + 1e-14) << k_inplane_param_names[k] << ", dim " << dim;
+      EXPECT_LE((fd_grad - G.col(k)).lpNorm<Eigen::Infinity>(), 1e-7 * G.col(k).lpNorm<Eigen::Infinity>() + 1e-14)
+          << k_inplane_param_names[k] << ", dim " << dim;
     }
   }
 }

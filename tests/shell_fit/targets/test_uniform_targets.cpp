@@ -113,5 +113,40 @@ TEST(UniformTargets, GeneratedTargetsAndCsv) {
   EXPECT_NE(text.find("weft,bending,,,,200,"), std::string::npos);
 }
 
+// The stiffening law is convex along every uniaxial path over a knit's fitted range (up to
+// 150 % stretch): along a pull with the width held (F = I + s u uᵀ) the energy's second
+// difference is non-negative, and along the zero-orthogonal-stress path of the targets the
+// stress never falls (the reduced energy W(s) = Ψ(s, c*(s)) has W' = σ_s). Parameters: a
+// sharp and a mild lock-up on a knit-like eq. 6.1.
+TEST(UniformTargets, StiffeningEnergyIsConvexAlongUniaxialPaths) {
+  InplaneParams sharp = k_knit;
+  sharp.lxx = 300.0;
+  sharp.bxx = 8.0;
+  sharp.lyy = 2000.0;
+  sharp.byy = 2.0;
+  sharp.lss = 40.0;
+  sharp.bss = 4.0;
+  InplaneParams mild{3.0, 1.0, 20.0, 2.0, 0.5, 0.5, 5.0, 0.0, 60.0, 0.5, 0.0, 0.0};
+  for (const InplaneParams& p : {sharp, mild}) {
+    const InplaneMaterial m(p, 0.0);
+    for (int a = 0; a <= 8; ++a) {
+      const double angle = a * std::numbers::pi / 16;
+      const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+      const auto held = [&](double s) { return m.psi(Eigen::Matrix2d::Identity() + s * u * u.transpose()); };
+      const double h = 1e-3;
+      double c = 0.0, sigma_prev = 0.0;
+      for (double s = h; s <= 1.5; s += 0.01) {
+        const double second = held(s + h) - 2 * held(s) + held(s - h);
+        EXPECT_GE(second, -1e-12 * std::abs(held(s))) << "held width, angle " << angle << " s " << s;
+        const UniaxialPoint pt = uniaxial_point(p, angle, s, c);
+        ASSERT_TRUE(pt.converged) << angle << " " << s;
+        c = pt.compression;
+        EXPECT_GE(pt.stress, sigma_prev) << "free width, angle " << angle << " s " << s;
+        sigma_prev = pt.stress;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace yarnfit::shell
