@@ -10,20 +10,7 @@ std::array<double, k_inplane_param_count> to_array(const InplaneParams& p) {
 }
 
 InplaneParams inplane_from_array(const std::array<double, k_inplane_param_count>& v) {
-  InplaneParams p;
-  p.kxx = v[0];
-  p.kxy = v[1];
-  p.kyy = v[2];
-  p.kss = v[3];
-  p.kn1 = v[4];
-  p.kn2 = v[5];
-  p.lxx = v[6];
-  p.bxx = v[7];
-  p.lyy = v[8];
-  p.byy = v[9];
-  p.lss = v[10];
-  p.bss = v[11];
-  return p;
+  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11]};
 }
 
 const char* to_string(InplaneModel m) { return m == InplaneModel::thesis ? "thesis" : "stiffening"; }

@@ -124,14 +124,9 @@ inline InplaneParams sample_inplane() {
 // The same with lock-up along weft, warp and shear (the stiffening model), rates from a
 // polynomial-like 0.5 to a sharp 6.
 inline InplaneParams sample_stiffening() {
-  InplaneParams p = sample_inplane();
-  p.lxx = 400.0;
-  p.bxx = 6.0;
-  p.lyy = 150.0;
-  p.byy = 0.5;
-  p.lss = 30.0;
-  p.bss = 3.0;
-  return p;
+  const InplaneParams k = sample_inplane();
+  return {k.kxx, k.kxy, k.kyy, k.kss, k.kn1, k.kn2, /*lxx, bxx*/ 400.0, 6.0, /*lyy, byy*/ 150.0, 0.5,
+          /*lss, bss*/ 30.0, 3.0};
 }
 
 inline std::vector<double> test_angles() { return {0.0, pi / 4.0, pi / 2.0, 0.7313}; }

@@ -93,13 +93,8 @@ TEST(InplaneFit, RecoversKnownParametersFromAnotherMesh) {
 // simulated with a lock-up on a finer mesh. The fit starts from the thesis model's fit, which
 // cannot follow these curves (its errors are printed beside the stiffening fit's).
 TEST(InplaneFit, StiffeningModelRecoversKnownLockupFromAnotherMesh) {
-  InplaneParams truth = k_truth;
-  truth.lxx = 300.0;
-  truth.bxx = 3.0;
-  truth.lyy = 600.0;
-  truth.byy = 1.5;
-  truth.lss = 60.0;
-  truth.bss = 2.0;
+  // k_truth with lock-up (lxx bxx, lyy byy, lss bss).
+  const InplaneParams truth{120.0, 35.0, 400.0, 30.0, 5.0, 8.0, 300.0, 3.0, 600.0, 1.5, 60.0, 2.0};
   ScratchDir dir("recover_lockup");
   SyntheticShellOptions o;
   o.params.inplane = truth;

@@ -100,13 +100,8 @@ TEST(ClampedStretch, SensitivitiesMatchFiniteDifferences) {
     const std::vector<double> targets{0.15, 0.4};
     // The stiffening law, so that all twelve sensitivities are live (a bias pull strains the
     // weft, the warp and the shear).
-    InplaneParams knit = k_knit;
-    knit.lxx = 300.0;
-    knit.bxx = 3.0;
-    knit.lyy = 500.0;
-    knit.byy = 1.0;
-    knit.lss = 50.0;
-    knit.bss = 2.0;
+    const InplaneParams knit{k_knit.kxx, k_knit.kxy, k_knit.kyy, k_knit.kss, k_knit.kn1, k_knit.kn2,
+                             /*lxx, bxx*/ 300.0, 3.0, /*lyy, byy*/ 500.0, 1.0, /*lss, bss*/ 50.0, 2.0};
     const auto run = scene.run(knit, targets, true);
     ASSERT_TRUE(run.ok) << run.message;
     const auto p = to_array(knit);

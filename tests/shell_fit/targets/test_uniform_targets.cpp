@@ -119,13 +119,7 @@ TEST(UniformTargets, GeneratedTargetsAndCsv) {
 // stress never falls (the reduced energy W(s) = Ψ(s, c*(s)) has W' = σ_s). Parameters: a
 // sharp and a mild lock-up on a knit-like eq. 6.1.
 TEST(UniformTargets, StiffeningEnergyIsConvexAlongUniaxialPaths) {
-  InplaneParams sharp = k_knit;
-  sharp.lxx = 300.0;
-  sharp.bxx = 8.0;
-  sharp.lyy = 2000.0;
-  sharp.byy = 2.0;
-  sharp.lss = 40.0;
-  sharp.bss = 4.0;
+  const InplaneParams sharp{120.0, 35.0, 400.0, 30.0, 5.0, 8.0, 300.0, 8.0, 2000.0, 2.0, 40.0, 4.0};
   InplaneParams mild{3.0, 1.0, 20.0, 2.0, 0.5, 0.5, 5.0, 0.0, 60.0, 0.5, 0.0, 0.0};
   for (const InplaneParams& p : {sharp, mild}) {
     const InplaneMaterial m(p, 0.0);
