@@ -60,7 +60,8 @@ int run_shell_fit(const ShellArgs& a) {
   if (!a.quiet) print_shell_report(report, a.out);
   if (!fit.converged()) {
     std::cerr << fit.failure() << "\n";
-    return k_exit_internal;
+    // A stop at the iteration cap is a model with the errors reached (shell_fit.json says so).
+    if (!fit.usable()) return k_exit_internal;
   }
   return k_exit_ok;
 }

@@ -8,7 +8,7 @@ namespace yarnfit::cli {
 
 std::vector<double*> shell_parameter_values(ShellSceneArgs& a) {
   return {&a.kxx, &a.kxy, &a.kyy, &a.kss, &a.kn1, &a.kn2, &a.ktheta_weft, &a.ktheta_bias, &a.ktheta_warp,
-          &a.lxx, &a.bxx, &a.lyy, &a.byy, &a.lss, &a.bss};
+          &a.lxx, &a.bxx, &a.lyy, &a.byy, &a.lss, &a.bss, &a.axx, &a.ayy};
 }
 
 void add_shell_parameter_options(CLI::App& app, ShellSceneArgs& a) {
@@ -27,10 +27,12 @@ void add_shell_parameter_options(CLI::App& app, ShellSceneArgs& a) {
             ->capture_default_str());
   }
   for (std::size_t i = 9; i < values.size(); ++i) {
-    const bool rate = (i - 9) % 2 == 1;
+    const bool share = i >= 15, rate = !share && (i - 9) % 2 == 1;
     a.parameter_options.push_back(
         app.add_option(std::string("--") + k_shell_param_names[i], *values[i],
-                       rate ? "Lock-up rate b of the stiffening model [-]" : "Lock-up stiffness l of the stiffening model [N/m]; 0: none")
+                       share  ? "Lateral share a of the weft (axx) or warp (ayy) lock-up strain [-]"
+                       : rate ? "Lock-up rate b of the stiffening model [-]"
+                              : "Lock-up stiffness l of the stiffening model [N/m]; 0: none")
             ->capture_default_str());
   }
 }
@@ -63,7 +65,8 @@ std::vector<std::string> check_shell_scene_args(const ShellSceneArgs& a, bool ne
   for (const auto& [name, v] : {std::pair{"--kn1", a.kn1}, {"--kn2", a.kn2}})
     if (!(finite(v) && v >= 0.0)) say(name, v, "must be zero or positive [N/m]");
   for (const auto& [name, v] : {std::pair{"--lxx", a.lxx}, {"--bxx", a.bxx}, {"--lyy", a.lyy}, {"--byy", a.byy},
-                                {"--lss", a.lss}, {"--bss", a.bss}})
+                                {"--lss", a.lss}, {"--bss", a.bss}, {"--axx", a.axx},
+                                {"--ayy", a.ayy}})
     if (!(finite(v) && v >= 0.0)) say(name, v, "must be zero or positive");
   if (!finite(a.kxy)) say("--kxy", a.kxy, "must be finite [N/m]");
   else if (a.kxx > 0.0 && a.kyy > 0.0 && !(a.kxy * a.kxy < a.kxx * a.kyy))
@@ -88,7 +91,7 @@ std::vector<std::string> check_shell_scene_args(const ShellSceneArgs& a, bool ne
 
 shell::SyntheticShellOptions synthetic_options(const ShellSceneArgs& a) {
   shell::SyntheticShellOptions o;
-  o.params.inplane = {a.kxx, a.kxy, a.kyy, a.kss, a.kn1, a.kn2, a.lxx, a.bxx, a.lyy, a.byy, a.lss, a.bss};
+  o.params.inplane = {a.kxx, a.kxy, a.kyy, a.kss, a.kn1, a.kn2, a.lxx, a.bxx, a.lyy, a.byy, a.lss, a.bss, a.axx, a.ayy};
   o.params.bending.ktheta = {a.ktheta_weft, a.ktheta_bias, a.ktheta_warp};
   o.length = a.length_mm * 1e-3;
   o.width = a.width_mm * 1e-3;

@@ -20,7 +20,7 @@ struct ShellSceneArgs {
   // k_θ weft, bias, warp [N·m]; 0: not given.
   double ktheta_weft = 0, ktheta_bias = 0, ktheta_warp = 0;
   // Lock-up of the stiffening model (l [N/m], b [-]) along weft, warp, shear; 0: eq. 6.1.
-  double lxx = 0, bxx = 0, lyy = 0, byy = 0, lss = 0, bss = 0;
+  double lxx = 0, bxx = 0, lyy = 0, byy = 0, lss = 0, bss = 0, axx = 0, ayy = 0;
   double length_mm = shell::SyntheticShellOptions{}.length * 1e3;
   double width_mm = shell::SyntheticShellOptions{}.width * 1e3;
   double gauge_length_mm = 0, gauge_width_mm = 0;  // 0: read at the clamps / free edges
@@ -37,7 +37,7 @@ struct ShellSceneArgs {
 // The parameter names of shell_fit.json's `params`, in the order of parameter_options.
 using shell::k_shell_param_names;
 
-// --kxx … --kn2, --ktheta-weft/bias/warp and the lock-up --lxx … --bss.
+// --kxx … --kn2, --ktheta-weft/bias/warp and the lock-up --lxx … --bss, --axx, --ayy.
 void add_shell_parameter_options(CLI::App& app, ShellSceneArgs& args);
 // --length-mm, --width-mm, --gauge-length-mm, --gauge-width-mm, --areal-density-gsm, --mesh,
 // --refine, --bend-mesh, --bend-refine.

@@ -43,7 +43,7 @@ PipelineResult run(const db::Fabric& fabric, const PipelineOptions& options, Clo
   // Stage 1: the shell fit and its uniform targets.
   result.shell = shell::fit_shell(fabric, options.shell);
   result.seconds_shell = seconds_since(start);
-  if (!result.shell->converged()) {
+  if (!result.shell->usable()) {
     result.status = PipelineStatus::shell_failed;
     result.message = result.shell->failure();
     result.seconds_total = seconds_since(start);

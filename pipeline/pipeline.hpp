@@ -74,7 +74,8 @@ struct PipelineResult {
 [[nodiscard]] db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options);
 
 // Runs the stages on `fabric` (with Stages::shell the result is ok once the shell fit
-// converged, and has no yarn problem or result). Never throws for bad input or a failed fit:
+// converged or stopped at its iteration cap with a usable model (ShellFitResult::usable, said
+// in shell_fit.json), and has no yarn problem or result). Never throws for bad input or a failed fit:
 // the status says.
 PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options);
 // The same on the record in `fabric_folder` (read and validated first; its problems are the

@@ -470,7 +470,8 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
     const auto& shell = r.outputs->shell;
     const std::string model = shell.contains("model") && shell["model"].is_string() ? shell["model"].get<std::string>() : "thesis";
     h << "<p class=\"note\" data-shell-model=\"" << escape(model) << "\">shell model: " << escape(model)
-      << (model == "stiffening" ? " (eq. 6.1 with exponential lock-up per material direction)" : " (eq. 6.1)") << "</p>";
+      << (model == "stiffening" ? " (eq. 6.1 with exponential lock-up per material direction and lateral shares)"
+                                  : " (eq. 6.1)") << "</p>";
   }
   // The fabric's plot: its errors against the band (a row per stage).
   svg::DotPlot p;

@@ -6,11 +6,11 @@
 namespace yarnfit::shell {
 
 std::array<double, k_inplane_param_count> to_array(const InplaneParams& p) {
-  return {p.kxx, p.kxy, p.kyy, p.kss, p.kn1, p.kn2, p.lxx, p.bxx, p.lyy, p.byy, p.lss, p.bss};
+  return {p.kxx, p.kxy, p.kyy, p.kss, p.kn1, p.kn2, p.lxx, p.bxx, p.lyy, p.byy, p.lss, p.bss, p.axx, p.ayy};
 }
 
 InplaneParams inplane_from_array(const std::array<double, k_inplane_param_count>& v) {
-  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11]};
+  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12], v[13]};
 }
 
 const char* to_string(InplaneModel m) { return m == InplaneModel::thesis ? "thesis" : "stiffening"; }

@@ -2,11 +2,15 @@
 // Parameters of the thin-shell model (thesis 6.3, SPEC §3), SI units.
 //
 //   Ψ_inplane = ½ εᵀ K ε + kn1 (J − 1)² + kn2 log² J              (6.1)   [J/m² = N/m]
-//             + Σ_d φ(⟨ε_d⟩; l_d, b_d)                            lock-up ("stiffening" model)
+//             + φ(ε1 + axx ε2; lxx, bxx) + φ(ε2 + ayy ε1; lyy, byy) + φ(|ε3|; lss, bss)
+//                                                                  lock-up ("stiffening" model)
 //   K = [[kxx, kxy, 0], [kxy, kyy, 0], [0, 0, kss]],  ε = (E11, E22, 2 E12) in the material
 //   frame (weft = x), E = ½ (FᵀF − I), J = area ratio.
-//   The lock-up terms (shell_fit/energies/lockup_curve.hpp) act on the weft strain ε1 ≥ 0,
-//   the warp strain ε2 ≥ 0 and the shear |ε3|; with l = 0 they vanish and Ψ is eq. 6.1.
+//   The lock-up terms (shell_fit/energies/lockup_curve.hpp) act on the weft strain measure
+//   ε1 + axx ε2, the warp one ε2 + ayy ε1 and the shear |ε3|, each only where positive; with
+//   l = 0 they vanish and Ψ is eq. 6.1. The lateral shares a ≥ 0 say how much of a loop's
+//   lock-up a narrowing across the pull relieves: a jammed loop can still lengthen by
+//   narrowing, so the lock-up pulls the width in and the contraction grows with the pull.
 //   Ψ_bending = k_θ κ²,  κ = 3θ/H per interior edge, times the incident rest area    (6.4)
 //   k_θ [N·m] interpolated linearly in the edge's rest angle between weft, bias, warp.
 
@@ -29,19 +33,28 @@ struct InplaneParams {
   double lxx = 0.0, bxx = 0.0;
   double lyy = 0.0, byy = 0.0;
   double lss = 0.0, bss = 0.0;
+  // Lateral shares [-] of the weft and warp lock-up strains (0: the lock-up sees the pulled
+  // direction alone).
+  double axx = 0.0, ayy = 0.0;
 };
 
 // The in-plane parameters as a vector, in the order of k_inplane_param_names: the six of
-// eq. 6.1, then the lock-up pairs. The fit, the scenes' sensitivities and the JSON use it.
-inline constexpr int k_inplane_param_count = 12;
+// eq. 6.1, then the lock-up pairs, then the lock-up's lateral shares. The fit, the scenes'
+// sensitivities and the JSON use it.
+inline constexpr int k_inplane_param_count = 14;
 inline constexpr const char* k_inplane_param_names[k_inplane_param_count] = {
-    "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "lxx", "bxx", "lyy", "byy", "lss", "bss"};
+    "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "lxx", "bxx", "lyy", "byy", "lss", "bss", "axx", "ayy"};
 // Index of the first lock-up parameter; the thesis model has the first six only.
 inline constexpr int k_first_lockup_param = 6;
 std::array<double, k_inplane_param_count> to_array(const InplaneParams& p);
 InplaneParams inplane_from_array(const std::array<double, k_inplane_param_count>& v);
-// The lock-up rates b enter nonlinearly; every other parameter enters Ψ linearly.
+// The lock-up rates b and lateral shares a enter nonlinearly; every other parameter enters Ψ
+// linearly.
 constexpr bool is_lockup_rate(int k) { return k == 7 || k == 9 || k == 11; }
+constexpr bool is_lockup_share(int k) { return k == 12 || k == 13; }
+constexpr bool enters_linearly(int k) { return !is_lockup_rate(k) && !is_lockup_share(k); }
+// The lock-up curve (0 weft, 1 warp, 2 shear) a lock-up parameter belongs to.
+constexpr int lockup_curve_of(int k) { return is_lockup_share(k) ? k - 12 : (k - k_first_lockup_param) / 2; }
 
 // Which in-plane law a fit uses: eq. 6.1 alone ("thesis"), or with the lock-up terms
 // ("stiffening").

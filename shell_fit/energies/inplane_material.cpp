@@ -42,6 +42,7 @@ Eigen::Matrix<double, Rows, 2> stvk_pk1_direction(const InplaneMaterial& m,
 InplaneMaterial::InplaneMaterial(const InplaneParams& p, double material_angle)
     : m_params(p),
       m_lockup{{p.lxx, p.bxx, false}, {p.lyy, p.byy, false}, {p.lss, p.bss, false}},
+      m_lockup_normal{{1.0, p.axx, 0.0}, {p.ayy, 1.0, 0.0}},
       m_material_angle(material_angle) {
   const double c = std::cos(material_angle);
   const double s = std::sin(material_angle);
@@ -49,20 +50,23 @@ InplaneMaterial::InplaneMaterial(const InplaneParams& p, double material_angle)
 }
 
 InplaneMaterial InplaneMaterial::parameter_derivative(const InplaneParams& p, double material_angle, int k) {
-  // Ψ is linear in every parameter but the rates: ∂Ψ/∂p_k is the law with p_k = 1 and the
-  // other linear parameters 0 (a lock-up stiffness keeps its own rate). For a rate b_d it is
-  // the lock-up curve d alone, in its rate-derivative form.
+  // Ψ is linear in every parameter but the rates and shares: ∂Ψ/∂p_k is the law with p_k = 1
+  // and the other linear parameters 0 (a lock-up stiffness keeps its curve's rate and share).
+  // For a rate or a share it is that lock-up curve alone, in its derivative form.
   std::array<double, k_inplane_param_count> v{};
   const auto full = to_array(p);
-  if (is_lockup_rate(k)) {
-    v[static_cast<std::size_t>(k - 1)] = full[static_cast<std::size_t>(k - 1)];
-    v[static_cast<std::size_t>(k)] = full[static_cast<std::size_t>(k)];
+  if (!enters_linearly(k) || k >= k_first_lockup_param) {
+    const int curve = lockup_curve_of(k);
+    const auto l_index = static_cast<std::size_t>(k_first_lockup_param + 2 * curve);
+    v[l_index] = enters_linearly(k) ? 1.0 : full[l_index];
+    v[l_index + 1] = full[l_index + 1];
+    if (curve < 2) v[static_cast<std::size_t>(12 + curve)] = full[static_cast<std::size_t>(12 + curve)];
   } else {
     v[static_cast<std::size_t>(k)] = 1.0;
-    if (k >= k_first_lockup_param) v[static_cast<std::size_t>(k + 1)] = full[static_cast<std::size_t>(k + 1)];
   }
   InplaneMaterial m(inplane_from_array(v), material_angle);
-  if (is_lockup_rate(k)) m.m_lockup[(k - k_first_lockup_param) / 2].rate_derivative = true;
+  if (is_lockup_rate(k)) m.m_lockup[lockup_curve_of(k)].rate_derivative = true;
+  if (is_lockup_share(k)) m.m_share_derivative = lockup_curve_of(k);
   return m;
 }
 
@@ -83,30 +87,64 @@ Eigen::Matrix2d lab_stress(const Eigen::Matrix2d& R, double s11, double s22, dou
 
 }  // namespace
 
+double InplaneMaterial::lockup_energy(const Eigen::Vector3d& e) const {
+  const double u[3] = {m_lockup_normal[0].dot(e), m_lockup_normal[1].dot(e), std::abs(e[2])};
+  if (m_share_derivative >= 0) {
+    const int d = m_share_derivative;
+    return m_lockup[d].stress(u[d]) * e[1 - d];  // φ'(u) w, w = ε2 for the weft, ε1 for the warp
+  }
+  return m_lockup[0].energy(u[0]) + m_lockup[1].energy(u[1]) + m_lockup[2].energy(u[2]);
+}
+
+Eigen::Vector3d InplaneMaterial::lockup_stress(const Eigen::Vector3d& e) const {
+  const double u[3] = {m_lockup_normal[0].dot(e), m_lockup_normal[1].dot(e), std::abs(e[2])};
+  if (m_share_derivative >= 0) {
+    // ∂(φ'(u) w)/∂e = φ''(u) w n + φ'(u) ∂w/∂e.
+    const int d = m_share_derivative;
+    Eigen::Vector3d s = m_lockup[d].tangent(u[d]) * e[1 - d] * m_lockup_normal[d];
+    s[1 - d] += m_lockup[d].stress(u[d]);
+    return s;
+  }
+  Eigen::Vector3d s = m_lockup[0].stress(u[0]) * m_lockup_normal[0] + m_lockup[1].stress(u[1]) * m_lockup_normal[1];
+  s[2] += std::copysign(m_lockup[2].stress(u[2]), e[2]);
+  return s;
+}
+
+Eigen::Matrix3d InplaneMaterial::lockup_tangent(const Eigen::Vector3d& e) const {
+  const double u[3] = {m_lockup_normal[0].dot(e), m_lockup_normal[1].dot(e), std::abs(e[2])};
+  if (m_share_derivative >= 0) {
+    // φ'''(u) w n nᵀ + φ''(u) (n ∂wᵀ + ∂w nᵀ).
+    const int d = m_share_derivative;
+    const Eigen::Vector3d& n = m_lockup_normal[d];
+    Eigen::Vector3d dw = Eigen::Vector3d::Zero();
+    dw[1 - d] = 1.0;
+    const double t = m_lockup[d].tangent(u[d]);
+    return m_lockup[d].third(u[d]) * e[1 - d] * n * n.transpose() + t * (n * dw.transpose() + dw * n.transpose());
+  }
+  Eigen::Matrix3d T = m_lockup[0].tangent(u[0]) * m_lockup_normal[0] * m_lockup_normal[0].transpose() +
+                      m_lockup[1].tangent(u[1]) * m_lockup_normal[1] * m_lockup_normal[1].transpose();
+  T(2, 2) += m_lockup[2].tangent(u[2]);
+  return T;
+}
+
 Eigen::Matrix2d InplaneMaterial::strain_stress(const Eigen::Matrix2d& E) const {
   Eigen::Matrix2d S = stvk_stress(E);
   if (!has_lockup()) return S;
-  const Eigen::Vector3d e = voigt(m_rotation, E);
-  const double shear = std::copysign(m_lockup[2].stress(std::abs(e[2])), e[2]);
-  return S + lab_stress(m_rotation, m_lockup[0].stress(e[0]), m_lockup[1].stress(e[1]), shear);
+  const Eigen::Vector3d s = lockup_stress(voigt(m_rotation, E));
+  return S + lab_stress(m_rotation, s[0], s[1], s[2]);
 }
 
 Eigen::Matrix2d InplaneMaterial::strain_stress_direction(const Eigen::Matrix2d& E, const Eigen::Matrix2d& dE) const {
   Eigen::Matrix2d dS = stvk_stress(dE);
   if (!has_lockup()) return dS;
-  const Eigen::Vector3d e = voigt(m_rotation, E);
-  const Eigen::Vector3d de = voigt(m_rotation, dE);
-  return dS + lab_stress(m_rotation, m_lockup[0].tangent(e[0]) * de[0], m_lockup[1].tangent(e[1]) * de[1],
-                         m_lockup[2].tangent(std::abs(e[2])) * de[2]);
+  const Eigen::Vector3d ds = lockup_tangent(voigt(m_rotation, E)) * voigt(m_rotation, dE);
+  return dS + lab_stress(m_rotation, ds[0], ds[1], ds[2]);
 }
 
 double InplaneMaterial::strain_energy(const Eigen::Matrix2d& E) const {
   // ½ εᵀKε = ½ S_m : E_m = ½ S : E (the rotation preserves the contraction).
   double psi = 0.5 * contract(stvk_stress(E), E);
-  if (has_lockup()) {
-    const Eigen::Vector3d e = voigt(m_rotation, E);
-    psi += m_lockup[0].energy(e[0]) + m_lockup[1].energy(e[1]) + m_lockup[2].energy(std::abs(e[2]));
-  }
+  if (has_lockup()) psi += lockup_energy(voigt(m_rotation, E));
   return psi;
 }
 

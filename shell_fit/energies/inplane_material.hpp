@@ -22,16 +22,19 @@
 //   value is finite but √det C is not differentiable, so the area term's derivatives are
 //   dropped there (never NaN).
 //
-// The "stiffening" model adds the lock-up terms (lockup_curve.hpp) on the material-frame
-// strains, Ψ += φ_x(ε1) + φ_y(ε2) + φ_s(|ε3|), each zero for a non-positive argument, so
-//   S_m += [[φ_x'(ε1), sgn(ε3) φ_s'(|ε3|)], [sgn(ε3) φ_s'(|ε3|), φ_y'(ε2)]],
-// and the StVK stress S = R S_m Rᵀ above becomes nonlinear in E (its tangent adds
-// diag(φ_x'', φ_y'') on the normal strains and φ_s'' on the shear). With l = 0 the terms vanish
-// and the law is exactly eq. 6.1.
+// The "stiffening" model adds the lock-up terms (lockup_curve.hpp) on three strain measures
+// of the material frame, each zero for a non-positive argument:
+//   Ψ += φ_x(u_x) + φ_y(u_y) + φ_s(u_s),  u_x = ε1 + axx ε2,  u_y = ε2 + ayy ε1,  u_s = |ε3|
+// so, with n_d = ∂u_d/∂ε (Voigt), the material-frame stress gains Σ_d φ_d'(u_d) n_d and the
+// tangent Σ_d φ_d''(u_d) n_d n_dᵀ: convex in ε, and the StVK stress S = R S_m Rᵀ above becomes
+// nonlinear in E. A lateral share a > 0 lets a narrowing across the pull relieve the lock-up,
+// so the lock-up also pulls the width in. With l = 0 the terms vanish and the law is exactly
+// eq. 6.1.
 //
-// The law is linear in every parameter except the lock-up rates b; parameter_derivative()
-// builds the law whose Ψ is ∂Ψ/∂p_k, which the fit's sensitivities use (see
-// MembraneTerm::add_gradient_per_parameter).
+// The law is linear in every parameter except the lock-up rates b and shares a;
+// parameter_derivative() builds the law whose Ψ is ∂Ψ/∂p_k, which the fit's sensitivities use
+// (see MembraneTerm::add_gradient_per_parameter). For a share that law is φ'(u) w, w the
+// other normal strain (ε2 for axx), whose tangent needs φ'''.
 
 #include <Eigen/Core>
 
@@ -89,10 +92,20 @@ class InplaneMaterial {
   [[nodiscard]] bool has_lockup() const {
     return m_lockup[0].active() || m_lockup[1].active() || m_lockup[2].active();
   }
+  // The lock-up terms on the material-frame Voigt strain e: energy, stress (∂/∂e; the third
+  // entry is S_m12) and tangent (∂²/∂e²). In a share's sensitivity law (m_share_derivative ≥ 0)
+  // they are those of φ'(u) w instead.
+  [[nodiscard]] double lockup_energy(const Eigen::Vector3d& e) const;
+  [[nodiscard]] Eigen::Vector3d lockup_stress(const Eigen::Vector3d& e) const;
+  [[nodiscard]] Eigen::Matrix3d lockup_tangent(const Eigen::Vector3d& e) const;
 
   InplaneParams m_params;
-  // Lock-up along weft (ε1), warp (ε2) and shear (|ε3|).
+  // Lock-up of the weft (u_x), warp (u_y) and shear (u_s) measures.
   LockupCurve m_lockup[3];
+  // ∂u_x/∂ε and ∂u_y/∂ε: (1, axx, 0) and (ayy, 1, 0).
+  Eigen::Vector3d m_lockup_normal[2];
+  // −1, or the curve (0 weft, 1 warp) whose lateral share this sensitivity law differentiates.
+  int m_share_derivative = -1;
   double m_material_angle = 0.0;
   Eigen::Matrix2d m_rotation;  // columns: weft and warp axes in the lab frame
 };

@@ -76,4 +76,11 @@ double LockupCurve::tangent(double x) const {
   return rate_derivative ? l * x * x * lockup_dh(1, b * x) : l * x * lockup_h(1, b * x);
 }
 
+double LockupCurve::third(double x) const {
+  if (!(x > 0.0) || l == 0.0) return 0.0;
+  // φ''' = l h_0(bx) = l e^{bx}; ∂/∂b of it is l x e^{bx}.
+  const double e = std::exp(b * x);
+  return rate_derivative ? l * x * e : l * e;
+}
+
 }  // namespace yarnfit::shell

@@ -36,6 +36,9 @@ struct LockupCurve {
   [[nodiscard]] double energy(double x) const;   // φ(x)
   [[nodiscard]] double stress(double x) const;   // φ'(x)
   [[nodiscard]] double tangent(double x) const;  // φ''(x)
+  // φ'''(x) = l e^{bx} (x > 0): the tangent's slope, needed by the sensitivity law of a
+  // lock-up's lateral share (InplaneMaterial::parameter_derivative).
+  [[nodiscard]] double third(double x) const;
 };
 
 // h_n(y) (n = 1, 2, 3) and its derivative, for y ≥ 0; +∞ where e^y overflows.

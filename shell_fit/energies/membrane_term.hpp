@@ -16,7 +16,7 @@
 // The parameter sensitivities of the energy and of its gradient are the same term evaluated
 // with the law ∂Ψ/∂p_k (InplaneMaterial::parameter_derivative: for the parameters Ψ is linear
 // in, a unit parameter k and the others zero), used for implicit-function sensitivities in
-// the fit. p = the twelve of k_inplane_param_names (eq. 6.1's six, then the lock-up pairs).
+// the fit. p = the fourteen of k_inplane_param_names (eq. 6.1's six, the lock-up pairs, the shares).
 
 #include <Eigen/Core>
 #include <array>
@@ -46,7 +46,7 @@ class MembraneTerm final : public numerics::EnergyTerm {
   using ParameterVector = Eigen::Matrix<double, parameter_count, 1>;
   // Adds ∂(∇E)/∂p_k into column k of `G` (#dofs × parameter_count).
   void add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const;
-  // ∂E/∂p_k; for the parameters E is linear in (all but the lock-up rates) this is E with unit
+  // ∂E/∂p_k; for the parameters E is linear in (all but the lock-up rates and shares) this is E with unit
   // parameter k and the others zero, so E = Σ_{k linear} p_k · entry k wherever E is finite.
   [[nodiscard]] ParameterVector value_per_parameter(const Eigen::VectorXd& x) const;
 

@@ -53,7 +53,7 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
     result.ranges.max_stretch[static_cast<std::size_t>(d.direction)] = d.max_stretch;
 
   // Bending (6.3.2), fitted separately with the in-plane model held, as in the thesis.
-  if (result.has_bending_tests && result.inplane.converged) {
+  if (result.has_bending_tests && (result.inplane.converged || result.inplane.hit_iteration_cap)) {
     BendingFitOptions bending;
     bending.threads = options.threads;
     if (options.progress) {

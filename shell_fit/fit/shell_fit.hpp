@@ -66,6 +66,11 @@ struct ShellFitResult {
 
   // The in-plane fit converged, and the bending fit too when it ran.
   [[nodiscard]] bool converged() const { return inplane.converged && (!bending || bending->converged); }
+  // Converged, or the in-plane fit stopped at its iteration cap at an evaluated point (its
+  // errors are those reached, and the JSON says so): later stages may use the model.
+  [[nodiscard]] bool usable() const {
+    return (inplane.converged || inplane.hit_iteration_cap) && (!bending || bending->converged);
+  }
   // Why not converged ("" when converged): "shell fit did not converge: …" or "bending fit …".
   [[nodiscard]] std::string failure() const;
 };
@@ -76,17 +81,17 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
 
 // shell_fit.json (SPEC §5): model ("thesis" or "stiffening"), params {kxx, kxy, kyy, kss,
 // kn1, kn2, ktheta_weft, ktheta_bias, ktheta_warp} (k_θ null when not fitted) plus, for the
-// stiffening model, the lock-up pairs {lxx, bxx, lyy, byy, lss, bss} and thesis_model_fit, errors {stretch_force_pct, compression_pct,
+// stiffening model, the lock-up pairs {lxx, bxx, lyy, byy, lss, bss}, the shares {axx, ayy} and thesis_model_fit, errors {stretch_force_pct, compression_pct,
 // bending_pct} (null where there is no figure, with errors_reason), identified,
 // not_identified, effects, timing_s, the in-plane details (inplane_fit_json) and `bending`.
 nlohmann::json to_json(const ShellFitResult& result);
 
 // The keys of shell_fit.json's params, in this order: eq. 6.1's six, the three k_θ, then the
-// lock-up pairs (absent from a thesis-model fit, where they are 0).
-inline constexpr int k_shell_param_count = 15;
+// lock-up pairs and shares (absent from a thesis-model fit, where they are 0).
+inline constexpr int k_shell_param_count = 17;
 inline const char* const k_shell_param_names[k_shell_param_count] = {
     "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "ktheta_weft", "ktheta_bias", "ktheta_warp",
-    "lxx", "bxx", "lyy", "byy", "lss", "bss"};
+    "lxx", "bxx", "lyy", "byy", "lss", "bss", "axx", "ayy"};
 
 // The parameters of a shell_fit.json (its `params`, or the top level when there is none), in
 // the order of k_shell_param_names; absent and null (not fitted) ones are empty. Problems

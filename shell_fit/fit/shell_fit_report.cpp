@@ -88,10 +88,10 @@ nlohmann::json inplane_fit_json(const InplaneFitResult& fit) {
 
 nlohmann::json bounds_json(const std::map<std::string, std::pair<double, double>>& bounds) {
   nlohmann::json j = nlohmann::json::object();
-  // Every bound is searched in log space except the lock-up rates (b), searched linearly.
+  // The stiffnesses are searched in log space between positive bounds; the parameters searched
+  // linearly (lock-up rates and shares, the stiffening law's kxy) all have a lower bound ≤ 0.
   for (const auto& [name, range] : bounds)
-    j[name] = {{"lower", range.first}, {"upper", range.second},
-               {"log", name != "bxx" && name != "byy" && name != "bss"}};
+    j[name] = {{"lower", range.first}, {"upper", range.second}, {"log", range.first > 0.0}};
   return j;
 }
 

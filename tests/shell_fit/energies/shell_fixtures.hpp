@@ -126,7 +126,7 @@ inline InplaneParams sample_inplane() {
 inline InplaneParams sample_stiffening() {
   const InplaneParams k = sample_inplane();
   return {k.kxx, k.kxy, k.kyy, k.kss, k.kn1, k.kn2, /*lxx, bxx*/ 400.0, 6.0, /*lyy, byy*/ 150.0, 0.5,
-          /*lss, bss*/ 30.0, 3.0};
+          /*lss, bss*/ 30.0, 3.0, /*axx, ayy*/ 0.4, 0.8};
 }
 
 inline std::vector<double> test_angles() { return {0.0, pi / 4.0, pi / 2.0, 0.7313}; }

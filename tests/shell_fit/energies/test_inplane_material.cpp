@@ -116,27 +116,40 @@ TEST(InplaneMaterialTest, StiffeningWithoutLockupIsTheThesisLawBitwise) {
 }
 
 // The lock-up adds nothing at small strain and, along a pure weft pull with no lateral
-// strain, exactly φ(ε1) with φ(x) = l (e^{bx} − 1 − bx − b²x²/2)/b³ to eq. 6.1's energy.
+// strain (ε = (e, 0, 0)), exactly φ_x(e) + φ_y(ayy e) with
+// φ(x) = l (e^{bx} − 1 − bx − b²x²/2)/b³ to eq. 6.1's energy; with the width held narrower,
+// the weft lock-up sees e + axx ε2.
 TEST(InplaneMaterialTest, LockupAddsTheClosedFormAlongAWeftPull) {
   const InplaneParams p = sample_stiffening();
   const InplaneMaterial thesis(sample_inplane(), 0.0), stiff(p, 0.0);
+  const auto phi = [](double l, double b, double x) {
+    return x > 0 ? l * (std::exp(b * x) - 1 - b * x - b * b * x * x / 2) / (b * b * b) : 0.0;
+  };
+  const auto dphi = [](double l, double b, double x) {
+    return x > 0 ? l * (std::exp(b * x) - 1 - b * x) / (b * b) : 0.0;
+  };
   for (const double s : {0.05, 0.2, 0.5}) {
     const Eigen::Matrix2d F = Eigen::Vector2d(1 + s, 1.0).asDiagonal();
     const double e = 0.5 * ((1 + s) * (1 + s) - 1.0);
-    const double b = p.bxx;
-    const double phi = p.lxx * (std::exp(b * e) - 1 - b * e - b * b * e * e / 2) / (b * b * b);
-    EXPECT_NEAR(stiff.psi(F) - thesis.psi(F), phi, 1e-12 * std::max(1.0, phi)) << "s " << s;
-    // Stress: P00 = (1+s) φ'(e) more, φ' = l (e^{be} − 1 − be)/b².
-    const double dphi = p.lxx * (std::exp(b * e) - 1 - b * e) / (b * b);
-    EXPECT_NEAR(stiff.pk1(F)(0, 0) - thesis.pk1(F)(0, 0), (1 + s) * dphi, 1e-11 * std::max(1.0, dphi));
+    const double added = phi(p.lxx, p.bxx, e) + phi(p.lyy, p.byy, p.ayy * e);
+    EXPECT_NEAR(stiff.psi(F) - thesis.psi(F), added, 1e-12 * std::max(1.0, added)) << "s " << s;
+    // Stress: P00 = (1+s) (φ_x'(e) + ayy φ_y'(ayy e)) more; the width feels axx φ_x'(e).
+    const double sx = dphi(p.lxx, p.bxx, e), sy = dphi(p.lyy, p.byy, p.ayy * e);
+    EXPECT_NEAR(stiff.pk1(F)(0, 0) - thesis.pk1(F)(0, 0), (1 + s) * (sx + p.ayy * sy), 1e-11 * std::max(1.0, sx));
+    EXPECT_NEAR(stiff.pk1(F)(1, 1) - thesis.pk1(F)(1, 1), p.axx * sx + sy, 1e-11 * std::max(1.0, sx));
+    // Narrowed by c: ε2 = ((1−c)² − 1)/2 < 0 relieves the weft lock-up, u_x = e + axx ε2.
+    const double c = 0.1, e2 = 0.5 * ((1 - c) * (1 - c) - 1.0);
+    const Eigen::Matrix2d N = Eigen::Vector2d(1 + s, 1 - c).asDiagonal();
+    const double narrowed = phi(p.lxx, p.bxx, e + p.axx * e2) + phi(p.lyy, p.byy, e2 + p.ayy * e);
+    EXPECT_NEAR(stiff.psi(N) - thesis.psi(N), narrowed, 1e-12 * std::max(1.0, narrowed)) << "s " << s;
   }
-  // Compression along the weft engages no lock-up (⟨ε⟩₊).
+  // Compression along the weft engages no lock-up (⟨u⟩₊).
   const Eigen::Matrix2d C = Eigen::Vector2d(0.8, 1.0).asDiagonal();
   EXPECT_EQ(stiff.psi(C), thesis.psi(C));
 }
 
 // ∂ψ/∂p_k and ∂P/∂p_k of the parameter-derivative laws against central differences in p_k,
-// for all twelve parameters (the lock-up rates enter nonlinearly).
+// for all fourteen parameters (the lock-up rates and shares enter nonlinearly).
 TEST(InplaneMaterialTest, ParameterDerivativeLawsMatchFiniteDifferences) {
   const InplaneParams p = sample_stiffening();
   const auto base = to_array(p);
@@ -158,6 +171,11 @@ TEST(InplaneMaterialTest, ParameterDerivativeLawsMatchFiniteDifferences) {
         EXPECT_NEAR(d.psi(F), fd_psi, 1e-7 * std::abs(fd_psi) + 1e-9) << k_inplane_param_names[k];
         EXPECT_LE((d.pk1(F) - fd_P).lpNorm<Eigen::Infinity>(), 1e-7 * fd_P.lpNorm<Eigen::Infinity>() + 1e-9)
             << k_inplane_param_names[k] << " angle " << angle;
+        // The law's own tangent (the share laws need φ''') against differences of its stress.
+        const auto dP = [&](const Eigen::Matrix2d& G) { return Eigen::MatrixXd(d.pk1(G)); };
+        if (d.dpk1(F).norm() > 0.0) {
+          EXPECT_LT(best_fd_error(dP, F, d.dpk1(F)), 1e-7) << k_inplane_param_names[k] << " angle " << angle;
+        }
       }
     }
   }

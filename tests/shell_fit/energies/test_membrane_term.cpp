@@ -137,7 +137,7 @@ TEST(MembraneTermTest, InvertedTriangleIsInvalidNeverNaN) {
 }
 
 TEST(MembraneTermTest, PerParameterDerivativesMatchFiniteDifferences) {
-  // The stiffening law: all twelve parameters are live (the thesis law is its l = 0 case).
+  // The stiffening law: all fourteen parameters are live (the thesis law is its l = 0 case).
   const InplaneParams p = sample_stiffening();
   constexpr int np = MembraneTerm::parameter_count;
   for (const int dim : {2, 3}) {
@@ -148,10 +148,10 @@ TEST(MembraneTermTest, PerParameterDerivativesMatchFiniteDifferences) {
     Eigen::MatrixXd G = Eigen::MatrixXd::Zero(x.size(), np);
     term.add_gradient_per_parameter(x, G);
     const auto base = to_array(p);
-    // E is linear in every parameter but the rates: E = Σ_{k linear} p_k ∂E/∂p_k.
+    // E is linear in every parameter but the rates and shares: E = Σ_{k linear} p_k ∂E/∂p_k.
     double sum = 0.0;
     for (int k = 0; k < np; ++k)
-      if (!is_lockup_rate(k)) sum += base[static_cast<std::size_t>(k)] * v(k);
+      if (enters_linearly(k)) sum += base[static_cast<std::size_t>(k)] * v(k);
     EXPECT_NEAR(sum, term.value(x), 1e-12 * term.value(x));
     for (int k = 0; k < np; ++k) {
       const double h = 1e-4 * std::max(std::abs(base[static_cast<std::size_t>(k)]), 1.0);

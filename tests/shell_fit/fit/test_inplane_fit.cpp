@@ -21,8 +21,11 @@ const InplaneParams k_truth{120.0, 35.0, 400.0, 30.0, 5.0, 8.0};  // N/m
 
 // Targets on the synthetic curves' own points: fitting over the whole simulated range puts the
 // 6 targets of each 13-point curve exactly on data points, so no interpolation error enters.
+// The thesis law (eq. 6.1) over every measured point: the records below are simulated with it.
+// The stiffening law's tests set their model themselves.
 InplaneFitOptions full_range() {
   InplaneFitOptions o;
+  o.model = InplaneModel::thesis;
   o.max_line_force = std::numeric_limits<double>::infinity();
   return o;
 }
@@ -93,8 +96,8 @@ TEST(InplaneFit, RecoversKnownParametersFromAnotherMesh) {
 // simulated with a lock-up on a finer mesh. The fit starts from the thesis model's fit, which
 // cannot follow these curves (its errors are printed beside the stiffening fit's).
 TEST(InplaneFit, StiffeningModelRecoversKnownLockupFromAnotherMesh) {
-  // k_truth with lock-up (lxx bxx, lyy byy, lss bss).
-  const InplaneParams truth{120.0, 35.0, 400.0, 30.0, 5.0, 8.0, 300.0, 3.0, 600.0, 1.5, 60.0, 2.0};
+  // k_truth with lock-up (lxx bxx, lyy byy, lss bss) and its lateral shares (axx ayy).
+  const InplaneParams truth{120.0, 35.0, 400.0, 30.0, 5.0, 8.0, 300.0, 3.0, 600.0, 1.5, 60.0, 2.0, 0.6, 0.3};
   ScratchDir dir("recover_lockup");
   SyntheticShellOptions o;
   o.params.inplane = truth;
@@ -107,11 +110,12 @@ TEST(InplaneFit, StiffeningModelRecoversKnownLockupFromAnotherMesh) {
   const auto r = fit_inplane(*load.fabric, options);
   print(r);
   std::cout << "  lock-up: lxx " << r.params.lxx << " bxx " << r.params.bxx << " lyy " << r.params.lyy << " byy "
-            << r.params.byy << " lss " << r.params.lss << " bss " << r.params.bss << "\n  thesis model from the same "
+            << r.params.byy << " lss " << r.params.lss << " bss " << r.params.bss << " axx " << r.params.axx
+            << " ayy " << r.params.ayy << "\n  thesis model from the same "
             << "data: force " << r.thesis_stretch_force_pct << " %, compression " << r.thesis_compression_pct << " %\n";
   EXPECT_EQ(r.model, InplaneModel::stiffening);
   EXPECT_TRUE(r.converged) << r.message;
-  EXPECT_EQ(r.identified.size(), 12u);
+  EXPECT_EQ(r.identified.size(), 14u);
   EXPECT_LT(r.stretch_force_pct, 1.0);
   EXPECT_LT(r.compression_pct, 1.0);
   EXPECT_GT(r.thesis_stretch_force_pct, 2.0 * r.stretch_force_pct);  // the lock-up is needed
@@ -146,6 +150,22 @@ TEST(InplaneFit, ReportsItsErrorsWithNoise) {
   EXPECT_GT(r.stretch_force_pct, 0.1);  // noise cannot be fitted away …
   EXPECT_LT(r.stretch_force_pct, 5.0);  // … but the model still fits the trend
   EXPECT_LT(r.compression_pct, 5.0);
+}
+
+// The default law on a record without lock-up (eq. 6.1's data): one of its starts is the thesis
+// fit itself, so it ends no worse than that fit, and it converges.
+TEST(InplaneFit, StiffeningFitOfAThesisRecordIsNoWorseThanTheThesisFit) {
+  ScratchDir dir("stiff_on_thesis");
+  const auto fabric = synthetic(dir, 0.0, true, false);
+  InplaneFitOptions options = full_range();
+  options.model = InplaneModel::stiffening;
+  const auto r = fit_inplane(fabric, options);
+  print(r);
+  EXPECT_TRUE(r.converged) << r.message;
+  EXPECT_LE(r.stretch_force_pct, r.thesis_stretch_force_pct + 0.01);
+  EXPECT_LE(r.compression_pct, r.thesis_compression_pct + 0.01);
+  EXPECT_LT(r.stretch_force_pct, 1.0);
+  EXPECT_LT(r.compression_pct, 1.0);
 }
 
 TEST(InplaneFit, WithoutABiasTestKssIsHeldAndSaidSo) {

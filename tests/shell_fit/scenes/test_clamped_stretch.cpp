@@ -98,10 +98,10 @@ TEST(ClampedStretch, SensitivitiesMatchFiniteDifferences) {
     }
     const ClampedStretchScene scene(s);
     const std::vector<double> targets{0.15, 0.4};
-    // The stiffening law, so that all twelve sensitivities are live (a bias pull strains the
+    // The stiffening law, so that all fourteen sensitivities are live (a bias pull strains the
     // weft, the warp and the shear).
     const InplaneParams knit{k_knit.kxx, k_knit.kxy, k_knit.kyy, k_knit.kss, k_knit.kn1, k_knit.kn2,
-                             /*lxx, bxx*/ 300.0, 3.0, /*lyy, byy*/ 500.0, 1.0, /*lss, bss*/ 50.0, 2.0};
+                             /*lxx, bxx*/ 300.0, 3.0, /*lyy, byy*/ 500.0, 1.0, /*lss, bss*/ 50.0, 2.0, /*axx, ayy*/ 0.5, 0.3};
     const auto run = scene.run(knit, targets, true);
     ASSERT_TRUE(run.ok) << run.message;
     const auto p = to_array(knit);

@@ -119,8 +119,10 @@ TEST(UniformTargets, GeneratedTargetsAndCsv) {
 // stress never falls (the reduced energy W(s) = Ψ(s, c*(s)) has W' = σ_s). Parameters: a
 // sharp and a mild lock-up on a knit-like eq. 6.1.
 TEST(UniformTargets, StiffeningEnergyIsConvexAlongUniaxialPaths) {
-  const InplaneParams sharp{120.0, 35.0, 400.0, 30.0, 5.0, 8.0, 300.0, 8.0, 2000.0, 2.0, 40.0, 4.0};
-  InplaneParams mild{3.0, 1.0, 20.0, 2.0, 0.5, 0.5, 5.0, 0.0, 60.0, 0.5, 0.0, 0.0};
+  // With lateral shares of either sign (the lock-up pulls the width in, or holds it out) the
+  // stress must still grow.
+  const InplaneParams sharp{120.0, 35.0, 400.0, 30.0, 5.0, 8.0, 300.0, 8.0, 2000.0, 2.0, 40.0, 4.0, -3.0, 0.5};
+  InplaneParams mild{3.0, 1.0, 20.0, 2.0, 0.5, 0.5, 5.0, 0.0, 60.0, 0.5, 0.0, 0.0, 3.0, 0.0};
   for (const InplaneParams& p : {sharp, mild}) {
     const InplaneMaterial m(p, 0.0);
     for (int a = 0; a <= 8; ++a) {
