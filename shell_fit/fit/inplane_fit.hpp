@@ -48,10 +48,11 @@ inline constexpr double k_max_lockup_share = 3.0;
 
 struct InplaneFitOptions {
   // Which law is fitted (shell_params.hpp). "stiffening" fits eq. 6.1 first and then the
-  // lock-up model from that fit and from the data (see fit_inplane). It is the default: on the
-  // four acrylic stitch-by-stitch records it halves the thesis law's force and compression
-  // errors (README, "Choosing the shell model"); the thesis law is eq. 6.1 alone.
-  InplaneModel model = InplaneModel::stiffening;
+  // lock-up model from that fit and from the data (see fit_inplane). It halves the thesis law's
+  // errors on the four acrylic records, but its fit still stops at the iteration cap on two of
+  // them and on a one-test synthetic record, so the default stays eq. 6.1 until it converges
+  // (README, "Choosing the shell model").
+  InplaneModel model = InplaneModel::thesis;
   // Working range: targets are spread over the measured stretch up to the stretch where the
   // line force reaches this [N/m]. The default is the thesis's power range (5 N on a 6 cm
   // swatch, SPEC §3), the range its tests covered; infinity uses every measured point. Tests
