@@ -24,7 +24,7 @@ struct ShellArgs {
   double mesh_mm = 5.0;
   int refine = 0;
   int threads = 2;
-  int max_iterations = 100;
+  int max_iterations = shell::ShellFitOptions{}.max_iterations;
   bool quiet = false;
   bool full_range = false;
   std::string model = shell::to_string(shell::ShellFitOptions{}.model);

@@ -48,12 +48,16 @@ struct ParamInfo {
   const char* stage;
   const char* unit;
 };
-inline constexpr std::array<ParamInfo, 17> k_params{{
+// The stiffening shell law's lock-up parameters come last (columns added after the others;
+// empty for a thesis-law fit).
+inline constexpr std::array<ParamInfo, 25> k_params{{
     {"kxx", "shell", "N/m"}, {"kxy", "shell", "N/m"}, {"kyy", "shell", "N/m"}, {"kss", "shell", "N/m"},
     {"kn1", "shell", "N/m"}, {"kn2", "shell", "N/m"}, {"ktheta_weft", "shell", "N·m"},
     {"ktheta_bias", "shell", "N·m"}, {"ktheta_warp", "shell", "N·m"}, {"ks1", "yarn", "N"},
     {"eps_s", "yarn", ""}, {"kb", "yarn", "N·m²"}, {"R1", "yarn", "m"}, {"kc1", "yarn", "N/m"},
     {"ks2", "yarn", "N"}, {"kc2", "yarn", "N/m"}, {"R2", "yarn", "m"},
+    {"lxx", "shell", "N/m"}, {"bxx", "shell", ""}, {"lyy", "shell", "N/m"}, {"byy", "shell", ""},
+    {"lss", "shell", "N/m"}, {"bss", "shell", ""}, {"axx", "shell", ""}, {"ayy", "shell", ""},
 }};
 
 struct TimeInfo {

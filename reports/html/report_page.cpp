@@ -409,7 +409,12 @@ void parameter_plot(std::ostringstream& h, const FabricRow& r) {
   svg::BoundsPlot p;
   p.title = "Fitted parameters on their search range (log axes unless stated)";
   std::vector<std::string> fixed;
-  for (std::size_t i = 0; i < k_params.size(); ++i) {
+  // The shell stage's parameters first (the lock-up ones come last in k_params), then the yarn's.
+  std::vector<std::size_t> order;
+  for (const char* stage_name : {"shell", "yarn"})
+    for (std::size_t i = 0; i < k_params.size(); ++i)
+      if (std::string_view(k_params[i].stage) == stage_name) order.push_back(i);
+  for (const std::size_t i : order) {
     const json& stage = std::string_view(k_params[i].stage) == "shell" ? r.outputs->shell : r.outputs->yarn;
     if (!stage.is_object() || !std::isfinite(r.params[i])) continue;
     const std::string name = k_params[i].key;

@@ -187,12 +187,89 @@ std::vector<InplaneStart> inplane_starts(const db::Fabric& fabric) {
 
 namespace {
 
+// The search variables q of the free parameters (one each) and the map p(q) with its
+// Jacobian. A slot holds log p for a stiffness, p itself for a parameter searched linearly,
+// and, for a lock-up pair (l, b) of the stiffening law searched together, the l slot holds the
+// lock-up stress at the direction's reference strain x_r (the Green strain at the end of its
+// fitted range), σ = φ'(x_r) = l x_r² h_2(b x_r). Over a fitted range a faster rate with a
+// smaller l gives nearly the same curve: in (l, b) that is a long curved valley the fit
+// creeps along; at fixed σ a change of b only changes the curve's shape.
+class SearchMap {
+ public:
+  SearchMap(std::vector<int> free, const VecP& held, InplaneModel model, const std::array<double, 3>& x_ref)
+      : m_free(std::move(free)), m_held(held), m_model(model), m_x_ref(x_ref) {
+    for (std::size_t j = 0; j < m_free.size(); ++j) m_slot_of[static_cast<std::size_t>(m_free[j])] = static_cast<int>(j);
+  }
+
+  [[nodiscard]] const std::vector<int>& free() const { return m_free; }
+  [[nodiscard]] std::size_t size() const { return m_free.size(); }
+  [[nodiscard]] bool log_slot(std::size_t j) const { return searched_in_log(m_free[j], m_model); }
+  // The lock-up curve whose stress slot j is, or −1.
+  [[nodiscard]] int stress_curve(std::size_t j) const {
+    const int k = m_free[j];
+    if (m_model != InplaneModel::stiffening || !(k == 6 || k == 8 || k == 10)) return -1;
+    return m_slot_of[static_cast<std::size_t>(k + 1)] >= 0 ? (k - k_first_lockup_param) / 2 : -1;
+  }
+  // g(b) = x_r² h_2(b x_r), so that σ = l g(b).
+  [[nodiscard]] double stress_factor(int curve, double b) const {
+    const double x = m_x_ref[static_cast<std::size_t>(curve)];
+    return x * x * lockup_h(2, b * x);
+  }
+
+  [[nodiscard]] VecP params(const double* q) const {
+    VecP p = m_held;
+    for (std::size_t j = 0; j < size(); ++j) p[m_free[j]] = log_slot(j) ? std::exp(q[j]) : q[j];
+    for (std::size_t j = 0; j < size(); ++j)
+      if (const int c = stress_curve(j); c >= 0) p[m_free[j]] = q[j] / stress_factor(c, p[m_free[j] + 1]);
+    return p;
+  }
+
+  [[nodiscard]] std::vector<double> q_of(const VecP& p) const {
+    std::vector<double> q(size());
+    for (std::size_t j = 0; j < size(); ++j) {
+      const int k = m_free[j];
+      if (const int c = stress_curve(j); c >= 0) q[j] = p[k] * stress_factor(c, p[k + 1]);
+      else q[j] = log_slot(j) ? std::log(std::max(p[k], 1e-300)) : p[k];
+    }
+    return q;
+  }
+
+  // ∂p/∂q (parameters × slots) at q.
+  [[nodiscard]] Eigen::MatrixXd jacobian(const double* q) const {
+    const VecP p = params(q);
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(k_inplane_param_count, static_cast<Eigen::Index>(size()));
+    for (std::size_t j = 0; j < size(); ++j) {
+      const int k = m_free[j];
+      const auto jj = static_cast<Eigen::Index>(j);
+      if (const int c = stress_curve(j); c >= 0) {
+        // l = σ / g(b): ∂l/∂σ = 1/g; ∂l/∂b = −l g'/g with g'/g = x h_2'(bx)/h_2(bx), in b's column.
+        const double b = p[k + 1], x = m_x_ref[static_cast<std::size_t>(c)];
+        D(k, jj) = 1.0 / stress_factor(c, b);
+        D(k, m_slot_of[static_cast<std::size_t>(k + 1)]) += -p[k] * x * lockup_dh(2, b * x) / lockup_h(2, b * x);
+      }
+      if (stress_curve(j) < 0) D(k, jj) += log_slot(j) ? p[k] : 1.0;
+    }
+    return D;
+  }
+
+ private:
+  std::vector<int> m_free;
+  VecP m_held;
+  InplaneModel m_model;
+  std::array<double, 3> m_x_ref;
+  std::array<int, k_inplane_param_count> m_slot_of = [] {
+    std::array<int, k_inplane_param_count> a{};
+    a.fill(-1);
+    return a;
+  }();
+};
+
 class StretchResiduals : public ceres::CostFunction {
  public:
-  StretchResiduals(std::vector<ClampedStretchScene>& scenes, std::vector<DirectionFit>& data,
-                   const std::vector<int>& free, const VecP& held, InplaneModel model, int threads, int& simulations)
-      : m_scenes(scenes), m_data(data), m_free(free), m_held(held), m_model(model), m_threads(threads),
-        m_simulations(simulations), m_warm(scenes.size()) {
+  StretchResiduals(std::vector<ClampedStretchScene>& scenes, std::vector<DirectionFit>& data, const SearchMap& map,
+                   int threads, int& simulations)
+      : m_scenes(scenes), m_data(data), m_map(map), m_threads(threads), m_simulations(simulations),
+        m_warm(scenes.size()) {
     int n = 0;
     for (const auto& d : m_data) {
       m_force_weight.push_back(1.0 / std::max(mean_abs(d.measured_force), 1e-12));
@@ -200,20 +277,16 @@ class StretchResiduals : public ceres::CostFunction {
       n += static_cast<int>(d.stretch.size()) * (d.measured_compression.empty() ? 1 : 2);
     }
     set_num_residuals(n);
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(m_free.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(m_map.size()));
   }
 
-  VecP params_from(const double* q) const {
-    VecP p = m_held;
-    for (std::size_t i = 0; i < m_free.size(); ++i) p[m_free[i]] = searched_in_log(m_free[i], m_model) ? std::exp(q[i]) : q[i];
-    return p;
-  }
+  VecP params_from(const double* q) const { return m_map.params(q); }
 
   // Every evaluation computes the Jacobian too (the sensitivities cost a fraction of the
   // equilibrium solves) and keeps it: Ceres evaluates a trial point's residuals and, when it
   // accepts the step, asks for the Jacobian at the same point again, which then costs nothing.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const int nf = static_cast<int>(m_free.size());
+    const int nf = static_cast<int>(m_map.size());
     const int nr = num_residuals();
     const std::vector<double> q(parameters[0], parameters[0] + nf);
     if (!(m_cached && q == m_cached_q)) {
@@ -242,10 +315,7 @@ class StretchResiduals : public ceres::CostFunction {
   bool simulate(const std::vector<double>& q) const {
     const VecP p = params_from(q.data());
     const InplaneParams ip = from_vec(p);
-    // ∂p/∂q of the search variables: p for log-space parameters, 1 for linear ones.
-    VecP dp_dq = VecP::Ones();
-    for (int i : m_free)
-      if (searched_in_log(i, m_model)) dp_dq[i] = p[i];
+    const Eigen::MatrixXd dp_dq = m_map.jacobian(q.data());
     std::vector<ClampedStretchRun> runs(m_data.size());
 #pragma omp parallel for num_threads(m_threads) schedule(dynamic)
     for (int k = 0; k < static_cast<int>(m_data.size()); ++k) {
@@ -253,9 +323,14 @@ class StretchResiduals : public ceres::CostFunction {
       runs[kk] = m_scenes[kk].run(ip, m_data[kk].stretch, true, &m_warm[kk]);
     }
     m_simulations += static_cast<int>(m_data.size());
-    const int nf = static_cast<int>(m_free.size());
+    const auto nf = static_cast<std::size_t>(m_map.size());
     m_res.assign(static_cast<std::size_t>(num_residuals()), 0.0);
-    m_jac.assign(m_res.size() * static_cast<std::size_t>(nf), 0.0);
+    m_jac.assign(m_res.size() * nf, 0.0);
+    // One residual's row of the Jacobian in q: (∂r/∂p)ᵀ ∂p/∂q.
+    const auto put_row = [&](std::size_t row, double weight, const Eigen::VectorXd& dr_dp) {
+      const Eigen::RowVectorXd dr_dq = weight * dr_dp.transpose() * dp_dq;
+      for (std::size_t j = 0; j < nf; ++j) m_jac[row * nf + j] = dr_dq[static_cast<Eigen::Index>(j)];
+    };
     int r = 0;
     for (std::size_t k = 0; k < m_data.size(); ++k) {
       if (!runs[k].ok) {
@@ -274,20 +349,12 @@ class StretchResiduals : public ceres::CostFunction {
         d.simulated_compression.push_back(smp.compression);
         const auto ur = static_cast<std::size_t>(r);
         m_res[ur] = m_force_weight[k] * (smp.force - d.measured_force[i]);
-        for (int j = 0; j < nf; ++j) {
-          const auto fj = static_cast<std::size_t>(m_free[static_cast<std::size_t>(j)]);
-          m_jac[ur * static_cast<std::size_t>(nf) + static_cast<std::size_t>(j)] =
-              m_force_weight[k] * smp.dforce_dp[static_cast<Eigen::Index>(fj)] * dp_dq[static_cast<Eigen::Index>(fj)];
-        }
+        put_row(ur, m_force_weight[k], smp.dforce_dp);
         ++r;
         if (d.measured_compression.empty()) continue;
         const auto uc = static_cast<std::size_t>(r);
         m_res[uc] = m_comp_weight[k] * (smp.compression - d.measured_compression[i]);
-        for (int j = 0; j < nf; ++j) {
-          const auto fj = static_cast<std::size_t>(m_free[static_cast<std::size_t>(j)]);
-          m_jac[uc * static_cast<std::size_t>(nf) + static_cast<std::size_t>(j)] =
-              m_comp_weight[k] * smp.dcompression_dp[static_cast<Eigen::Index>(fj)] * dp_dq[static_cast<Eigen::Index>(fj)];
-        }
+        put_row(uc, m_comp_weight[k], smp.dcompression_dp);
         ++r;
       }
     }
@@ -296,9 +363,7 @@ class StretchResiduals : public ceres::CostFunction {
 
   std::vector<ClampedStretchScene>& m_scenes;
   std::vector<DirectionFit>& m_data;
-  std::vector<int> m_free;
-  VecP m_held;
-  InplaneModel m_model;
+  const SearchMap& m_map;
   int m_threads;
   int& m_simulations;
   std::vector<double> m_force_weight, m_comp_weight;
@@ -505,22 +570,34 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
   // Bounds keep the search physical: stiffnesses 1e-4…1e4 times the data-based axial scale
   // (lock-up stiffnesses from 1e-6 of it, which is no lock-up), rates 0…k_max_lockup_rate, shares k_min_lockup_share…k_max_lockup_share.
   const double scale = std::sqrt(held[0] * held[2]);
-  const auto bounds_of = [&](int k) -> std::pair<double, double> {
+  // Reference strain of each lock-up curve (weft, warp, shear): the Green strain at the end of
+  // its test's fitted range (a bias pull of Green strain e has |ε3| = e).
+  std::array<double, 3> x_ref{1.0, 1.0, 1.0};
+  for (const auto& d : result.directions) {
+    const double e = 0.5 * ((1.0 + d.max_stretch) * (1.0 + d.max_stretch) - 1.0);
+    x_ref[static_cast<std::size_t>(lockup_index(d.direction) - k_first_lockup_param) / 2] = std::max(e, 1e-3);
+  }
+  const SearchMap map(free, held, options.model, x_ref);
+  // Bounds of each slot of `map`: stiffnesses 1e-4…1e4 of the scale (log), the stiffening law's
+  // kxy from 0, a lock-up stress from 0 to 1e4 of the scale, rates and shares as above.
+  const auto q_bounds = [&](std::size_t j) -> std::pair<double, double> {
+    const int k = free[j];
     if (is_lockup_rate(k)) return {0.0, k_max_lockup_rate};
     if (is_lockup_share(k)) return {k_min_lockup_share, k_max_lockup_share};
-    if (!searched_in_log(k, options.model)) return {0.0, 1e4 * scale};  // kxy and l of the stiffening law
-    return {(k >= k_first_lockup_param ? 1e-6 : 1e-4) * scale, 1e4 * scale};
+    if (!map.log_slot(j)) return {0.0, 1e4 * scale};
+    return {std::log((k >= k_first_lockup_param ? 1e-6 : 1e-4) * scale), std::log(1e4 * scale)};
   };
-  const auto q_bounds = [&](int k) -> std::pair<double, double> {
-    const auto [lo, hi] = bounds_of(k);
-    return searched_in_log(k, options.model) ? std::pair{std::log(lo), std::log(hi)} : std::pair{lo, hi};
+  // The same in the parameters, for the JSON (a lock-up stress slot bounds l by σ_max/g(0)).
+  const auto p_bounds = [&](std::size_t j) -> std::pair<double, double> {
+    const auto [lo, hi] = q_bounds(j);
+    if (const int c = map.stress_curve(j); c >= 0) return {lo, hi / map.stress_factor(c, 0.0)};
+    return map.log_slot(j) ? std::pair{std::exp(lo), std::exp(hi)} : std::pair{lo, hi};
   };
   const auto start_q = [&](const InplaneParams& params) {
-    const VecP v = to_vec(params);
-    std::vector<double> q;
-    for (int i : free) {
-      const auto [lo, hi] = q_bounds(i);
-      q.push_back(std::clamp(searched_in_log(i, options.model) ? std::log(std::max(v[i], 1e-300)) : v[i], lo, hi));
+    std::vector<double> q = map.q_of(to_vec(params));
+    for (std::size_t j = 0; j < q.size(); ++j) {
+      const auto [lo, hi] = q_bounds(j);
+      q[j] = std::clamp(q[j], lo, hi);
     }
     return q;
   };
@@ -528,8 +605,8 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
   // start continues from equilibria near its parameters.
   std::vector<std::unique_ptr<StretchResiduals>> costs;
   for (std::size_t k = 0; k < result.starts.size(); ++k)
-    costs.push_back(std::make_unique<StretchResiduals>(scenes, result.directions, free, held, options.model,
-                                                       std::max(1, options.threads), result.simulations));
+    costs.push_back(std::make_unique<StretchResiduals>(scenes, result.directions, map, std::max(1, options.threads),
+                                                       result.simulations));
   // Displayed error: the root-mean-square normalised residual, in percent.
   const double n_res = static_cast<double>(costs[0]->num_residuals());
   ProgressCallback progress(options.progress, start_time,
@@ -550,10 +627,10 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
       po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
       ceres::Problem problem(po);
       problem.AddResidualBlock(&cost, nullptr, q.data());
-      for (int j = 0; j < static_cast<int>(free.size()); ++j) {
-        const auto [lo, hi] = q_bounds(free[static_cast<std::size_t>(j)]);
-        problem.SetParameterLowerBound(q.data(), j, lo);
-        problem.SetParameterUpperBound(q.data(), j, hi);
+      for (std::size_t j = 0; j < free.size(); ++j) {
+        const auto [lo, hi] = q_bounds(j);
+        problem.SetParameterLowerBound(q.data(), static_cast<int>(j), lo);
+        problem.SetParameterUpperBound(q.data(), static_cast<int>(j), hi);
       }
       ceres::Solver::Options so = least_squares_options(max_iterations, 1e-9, 1e-9, &progress);
       so.initial_trust_region_radius = options.initial_trust_region_radius;
@@ -612,12 +689,15 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
         jac.data(), static_cast<Eigen::Index>(res.size()), static_cast<Eigen::Index>(free.size()));
     const Eigen::MatrixXd JtJ = J.transpose() * J;
-    const Eigen::MatrixXd cov = JtJ.completeOrthogonalDecomposition().pseudoInverse();
+    // The covariance of q carried to the parameters (first order): sd(p) relative to p, which for
+    // a log-space slot is the standard deviation of log p.
+    const Eigen::MatrixXd D = map.jacobian(q.data());
+    const Eigen::MatrixXd cov = D * JtJ.completeOrthogonalDecomposition().pseudoInverse() * D.transpose();
     for (std::size_t j = 0; j < free.size(); ++j) {
-      // Log-space: the standard deviation of log p is the relative one; linear: divide by p.
-      const double sd = 0.01 * std::sqrt(std::max(cov(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)), 0.0));
+      const auto k = static_cast<Eigen::Index>(free[j]);
+      const double sd = 0.01 * std::sqrt(std::max(cov(k, k), 0.0));
       const double pk = p[free[j]];
-      const double pct = 100.0 * (searched_in_log(free[j], options.model) ? sd : (pk != 0.0 ? sd / std::abs(pk) : std::numeric_limits<double>::infinity()));
+      const double pct = 100.0 * (pk != 0.0 ? sd / std::abs(pk) : std::numeric_limits<double>::infinity());
       result.sensitivity_pct[static_cast<std::size_t>(free[j])] = pct;
       if (!(pct <= k_weak_identification_pct)) result.weakly_identified.push_back(k_inplane_param_names[free[j]]);
     }
@@ -630,13 +710,12 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
   if (result.hit_iteration_cap)
     result.message = "stopped at the iteration cap (" + std::to_string(options.max_iterations) +
                      " iterations) before converging; the errors are those reached: " + result.message;
-  for (int i : free) result.bounds[k_inplane_param_names[i]] = bounds_of(i);
-  for (int j = 0; j < static_cast<int>(free.size()); ++j) {
-    const int k = free[static_cast<std::size_t>(j)];
-    const auto [lo, hi] = q_bounds(k);
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const int k = free[j];
+    result.bounds[k_inplane_param_names[k]] = p_bounds(j);
+    const auto [lo, hi] = q_bounds(j);
     // 1e-3 of log space is 0.1 %; for a rate, 1e-3 absolute.
-    if (q[static_cast<std::size_t>(j)] - lo < 1e-3 || hi - q[static_cast<std::size_t>(j)] < 1e-3)
-      result.at_bounds.push_back(k_inplane_param_names[k]);
+    if (q[j] - lo < 1e-3 || hi - q[j] < 1e-3) result.at_bounds.push_back(k_inplane_param_names[k]);
   }
 
   if (final_ok) {

@@ -34,7 +34,7 @@ struct ShellFitOptions {
   double mesh = 5e-3;        // cell size of the clamped-stretch scenes [m], > 0
   int refinements = 0;       // midpoint subdivisions of that mesh, 0–4
   int threads = 1;           // test directions simulated in parallel, 1–64
-  int max_iterations = 100;  // Ceres iterations of the in-plane fit after its multi-start, 1–1000
+  int max_iterations = InplaneFitOptions{}.max_iterations;  // Ceres iterations of the in-plane fit after its multi-start, 1–1000
   // Fit every measured point, not only up to the power range (83.3 N/m line force).
   bool full_range = false;
   // The in-plane law fitted (InplaneFitOptions::model; README "Choosing the shell model").
