@@ -4,6 +4,7 @@
 
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
+#include "shell_fit/fit/search_map.hpp"
 #include "shell_fit/energies/lockup_curve.hpp"
 
 #include <Eigen/QR>
@@ -34,16 +35,6 @@ InplaneParams from_vec(const VecP& v) {
   return inplane_from_array(a);
 }
 
-// The lock-up rates and shares are searched in linear space (b = 0, a cubic stiffening, and
-// a = 0, no lateral share, are natural values); every other parameter in log space, except,
-// in the stiffening law, kxy and the lock-up stiffnesses l, searched linearly from 0: there
-// the shares carry much of the coupling and kxy often wants 0, and a direction without
-// lock-up wants l = 0, values a log-space search only creeps towards (the acrylic rib fit
-// crept for 400 iterations, a synthetic eq. 6.1 record for 100).
-bool searched_in_log(int k, InplaneModel model) {
-  if (model == InplaneModel::stiffening && (k == 1 || k == 6 || k == 8 || k == 10)) return false;
-  return enters_linearly(k);
-}
 
 
 // Least-squares slope through the origin over the first third of the range: the small-strain
@@ -186,83 +177,6 @@ std::vector<InplaneStart> inplane_starts(const db::Fabric& fabric) {
 }
 
 namespace {
-
-// The search variables q of the free parameters (one each) and the map p(q) with its
-// Jacobian. A slot holds log p for a stiffness, p itself for a parameter searched linearly,
-// and, for a lock-up pair (l, b) of the stiffening law searched together, the l slot holds the
-// lock-up stress at the direction's reference strain x_r (the Green strain at the end of its
-// fitted range), σ = φ'(x_r) = l x_r² h_2(b x_r). Over a fitted range a faster rate with a
-// smaller l gives nearly the same curve: in (l, b) that is a long curved valley the fit
-// creeps along; at fixed σ a change of b only changes the curve's shape.
-class SearchMap {
- public:
-  SearchMap(std::vector<int> free, const VecP& held, InplaneModel model, const std::array<double, 3>& x_ref)
-      : m_free(std::move(free)), m_held(held), m_model(model), m_x_ref(x_ref) {
-    for (std::size_t j = 0; j < m_free.size(); ++j) m_slot_of[static_cast<std::size_t>(m_free[j])] = static_cast<int>(j);
-  }
-
-  [[nodiscard]] const std::vector<int>& free() const { return m_free; }
-  [[nodiscard]] std::size_t size() const { return m_free.size(); }
-  [[nodiscard]] bool log_slot(std::size_t j) const { return searched_in_log(m_free[j], m_model); }
-  // The lock-up curve whose stress slot j is, or −1.
-  [[nodiscard]] int stress_curve(std::size_t j) const {
-    const int k = m_free[j];
-    if (m_model != InplaneModel::stiffening || !(k == 6 || k == 8 || k == 10)) return -1;
-    return m_slot_of[static_cast<std::size_t>(k + 1)] >= 0 ? (k - k_first_lockup_param) / 2 : -1;
-  }
-  // g(b) = x_r² h_2(b x_r), so that σ = l g(b).
-  [[nodiscard]] double stress_factor(int curve, double b) const {
-    const double x = m_x_ref[static_cast<std::size_t>(curve)];
-    return x * x * lockup_h(2, b * x);
-  }
-
-  [[nodiscard]] VecP params(const double* q) const {
-    VecP p = m_held;
-    for (std::size_t j = 0; j < size(); ++j) p[m_free[j]] = log_slot(j) ? std::exp(q[j]) : q[j];
-    for (std::size_t j = 0; j < size(); ++j)
-      if (const int c = stress_curve(j); c >= 0) p[m_free[j]] = q[j] / stress_factor(c, p[m_free[j] + 1]);
-    return p;
-  }
-
-  [[nodiscard]] std::vector<double> q_of(const VecP& p) const {
-    std::vector<double> q(size());
-    for (std::size_t j = 0; j < size(); ++j) {
-      const int k = m_free[j];
-      if (const int c = stress_curve(j); c >= 0) q[j] = p[k] * stress_factor(c, p[k + 1]);
-      else q[j] = log_slot(j) ? std::log(std::max(p[k], 1e-300)) : p[k];
-    }
-    return q;
-  }
-
-  // ∂p/∂q (parameters × slots) at q.
-  [[nodiscard]] Eigen::MatrixXd jacobian(const double* q) const {
-    const VecP p = params(q);
-    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(k_inplane_param_count, static_cast<Eigen::Index>(size()));
-    for (std::size_t j = 0; j < size(); ++j) {
-      const int k = m_free[j];
-      const auto jj = static_cast<Eigen::Index>(j);
-      if (const int c = stress_curve(j); c >= 0) {
-        // l = σ / g(b): ∂l/∂σ = 1/g; ∂l/∂b = −l g'/g with g'/g = x h_2'(bx)/h_2(bx), in b's column.
-        const double b = p[k + 1], x = m_x_ref[static_cast<std::size_t>(c)];
-        D(k, jj) = 1.0 / stress_factor(c, b);
-        D(k, m_slot_of[static_cast<std::size_t>(k + 1)]) += -p[k] * x * lockup_dh(2, b * x) / lockup_h(2, b * x);
-      }
-      if (stress_curve(j) < 0) D(k, jj) += log_slot(j) ? p[k] : 1.0;
-    }
-    return D;
-  }
-
- private:
-  std::vector<int> m_free;
-  VecP m_held;
-  InplaneModel m_model;
-  std::array<double, 3> m_x_ref;
-  std::array<int, k_inplane_param_count> m_slot_of = [] {
-    std::array<int, k_inplane_param_count> a{};
-    a.fill(-1);
-    return a;
-  }();
-};
 
 class StretchResiduals : public ceres::CostFunction {
  public:
