@@ -300,8 +300,10 @@ namespace {
 
 // One fit of options.model from the thesis-model starts (inplane_starts), or, for the
 // stiffening model, from `lockup_starts` when given.
+// `law` names the fit's phase in the progress stage: "" for a thesis-law fit alone, e.g.
+// ", eq. 6.1 first" and ", stiffening" for the two phases of a stiffening fit.
 InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
-                                  std::vector<InplaneStart> lockup_starts);
+                                  std::vector<InplaneStart> lockup_starts, const std::string& law);
 
 // The lock-up pair (l, b) of a test direction: indices into k_inplane_param_names.
 int lockup_index(db::Direction d) {
@@ -334,13 +336,13 @@ std::pair<double, double> lockup_guess(const db::StretchTest& t, double max_line
 }  // namespace
 
 InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& options) {
-  if (options.model == InplaneModel::thesis) return fit_inplane_from(fabric, options, {});
+  if (options.model == InplaneModel::thesis) return fit_inplane_from(fabric, options, {}, "");
   // The stiffening model starts from the thesis model's fit (with lock-up added): its
   // optimum is a point of the larger model, so the larger model never ends worse than it
   // from that start; and from the balanced small-strain split with lock-up from the curves.
   InplaneFitOptions thesis_options = options;
   thesis_options.model = InplaneModel::thesis;
-  const InplaneFitResult thesis = fit_inplane(fabric, thesis_options);
+  const InplaneFitResult thesis = fit_inplane_from(fabric, thesis_options, {}, ", eq. 6.1 first");
   std::vector<InplaneStart> starts;
   const auto with_lockup = [&](InplaneParams p, double l_factor, bool from_data, double share) {
     auto v = to_array(p);
@@ -379,7 +381,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
   }
   add("balanced small-strain split with lock-up from the curves' ends",
       with_lockup(initial_inplane_guess(fabric), 1.0, true, 0.0));
-  InplaneFitResult r = fit_inplane_from(fabric, options, starts);
+  InplaneFitResult r = fit_inplane_from(fabric, options, starts, ", stiffening");
   r.thesis_stretch_force_pct = thesis.stretch_force_pct;
   r.thesis_compression_pct = thesis.compression_pct;
   r.thesis_params = thesis.params;
@@ -392,7 +394,7 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
 namespace {
 
 InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
-                                  std::vector<InplaneStart> lockup_starts) {
+                                  std::vector<InplaneStart> lockup_starts, const std::string& law) {
   const auto start_time = std::chrono::steady_clock::now();
   InplaneFitResult result;
   result.model = options.model;
@@ -558,8 +560,8 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     }
   };
 
-  // The stage names the tests fitted together, e.g. "in-plane (weft, warp)".
-  std::string stage = "in-plane (";
+  // The stage names the phase and the tests fitted together, e.g. "in-plane, stiffening (weft, warp)".
+  std::string stage = "in-plane" + law + " (";
   for (std::size_t k = 0; k < result.directions.size(); ++k)
     stage += (k ? ", " : "") + std::string(db::to_string(result.directions[k].direction));
   stage += ")";

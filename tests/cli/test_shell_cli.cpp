@@ -259,8 +259,11 @@ TEST(ShellCli, FitShowsProgressOnATerminalOnly) {
     return read_file(log);
   };
   const std::string shown = on_terminal("", dir / "tty.log");
-  for (const char* expected : {"\rshell fit: in-plane (weft, warp) start 1/3, iteration 1/8, best rms error ",
-                               "\rshell fit: in-plane (weft, warp), iteration 1/1000, best rms error "})
+  // The default (stiffening) law fits eq. 6.1 first, then continues from five starts.
+  for (const char* expected : {"\rshell fit: in-plane, eq. 6.1 first (weft, warp) start 1/3, iteration 1/8, best rms error ",
+                               "\rshell fit: in-plane, eq. 6.1 first (weft, warp), iteration 1/1000, best rms error ",
+                               "\rshell fit: in-plane, stiffening (weft, warp) start 5/5, iteration 1/8, best rms error ",
+                               "\rshell fit: in-plane, stiffening (weft, warp), iteration 1/1000, best rms error "})
     EXPECT_NE(shown.find(std::string(expected).insert(1, "\033[K")), std::string::npos) << expected << "\n" << shown;
   EXPECT_NE(shown.find(" %, "), std::string::npos) << shown;
   EXPECT_NE(shown.find(" s"), std::string::npos) << shown;
