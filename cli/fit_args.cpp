@@ -36,8 +36,8 @@ pipeline::PipelineOptions pipeline_options(const YarnFitArgs& a, db::Problems& p
 
 void add_shell_model_option(CLI::App& cmd, std::string& model) {
   cmd.add_option("--shell-model", model,
-                 "In-plane shell law: stiffening (eq. 6.1 plus exponential lock-up per material direction, "
-                 "fitted from the thesis model's fit) or thesis (eq. 6.1 alone)")
+                 "In-plane shell law: stiffening (eq. 6.1 plus exponential lock-up per material direction with "
+                 "lateral shares, fitted from the thesis model's fit) or thesis (eq. 6.1 alone)")
       ->capture_default_str();
 }
 
