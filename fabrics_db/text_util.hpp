@@ -23,5 +23,7 @@ std::string closest_match(std::string_view word, const std::vector<std::string>&
 std::string join_words(const std::vector<std::string>& words, std::string_view last = " or ");
 // printf-style "%.<digits>g" of a double.
 std::string format_g(double value, int digits = 6);
+// The shortest text that reads back as exactly `value`: 0.1, not 0.10000000000000001.
+std::string format_shortest(double value);
 
 }  // namespace yarnfit::db

@@ -1,7 +1,6 @@
 #include "reports/summaries/shell_summary.hpp"
 
 #include <iomanip>
-#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -14,26 +13,22 @@ namespace yarnfit::reports {
 using nlohmann::json;
 
 std::string shell_curves_csv(const json& report) {
-  // Every value round-trips (max_digits10), so that errors recomputed from the file equal
-  // shell_fit.json's: an error is a small difference of close values, and 10 digits left it
-  // 1e-8 off for a close fit.
-  constexpr int digits = std::numeric_limits<double>::max_digits10;
+  // Every value round-trips (the shortest text that reads back exactly), so that errors
+  // recomputed from the file equal shell_fit.json's: an error is a small difference of close
+  // values, and 10 digits left it 1e-8 off for a close fit.
   std::ostringstream csv;
-  csv << std::setprecision(digits) << "direction,stretch,measured_force_N,simulated_force_N,measured_compression,"
-                                  "simulated_compression\n";
+  csv << "direction,stretch,measured_force_N,simulated_force_N,measured_compression,simulated_compression\n";
   if (!report.contains("directions")) return csv.str();
   for (const auto& d : report["directions"]) {
     const auto& st = d["stretch"];
     auto cell = [&d](const char* key, std::size_t i) -> std::string {
       if (!d.contains(key) || !d[key].is_array() || i >= d[key].size() || !d[key][i].is_number()) return "";
-      std::ostringstream v;
-      v << std::setprecision(digits) << d[key][i].get<double>();
-      return v.str();
+      return db::format_shortest(d[key][i].get<double>());
     };
     for (std::size_t i = 0; i < st.size(); ++i)
-      csv << d["direction"].get<std::string>() << "," << st[i].get<double>() << "," << cell("measured_force_N", i)
-          << "," << cell("simulated_force_N", i) << "," << cell("measured_compression", i) << ","
-          << cell("simulated_compression", i) << "\n";
+      csv << d["direction"].get<std::string>() << "," << db::format_shortest(st[i].get<double>()) << ","
+          << cell("measured_force_N", i) << "," << cell("simulated_force_N", i) << ","
+          << cell("measured_compression", i) << "," << cell("simulated_compression", i) << "\n";
   }
   return csv.str();
 }

@@ -35,8 +35,6 @@ InplaneParams from_vec(const VecP& v) {
   return inplane_from_array(a);
 }
 
-
-
 // Least-squares slope through the origin over the first third of the range: the small-strain
 // modulus of a curve that stiffens, without being thrown by the toe's noise.
 double initial_slope(const std::vector<double>& s, const std::vector<double>& y) {
@@ -483,8 +481,7 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     result.directions.push_back(make_direction_targets(t, options.max_line_force));
   }
 
-  // Bounds keep the search physical: stiffnesses 1e-4…1e4 times the data-based axial scale
-  // (lock-up stiffnesses from 1e-6 of it, which is no lock-up), rates 0…k_max_lockup_rate, shares k_min_lockup_share…k_max_lockup_share.
+  // Bounds keep the search physical, relative to the data-based axial stiffness scale.
   const double scale = std::sqrt(held[0] * held[2]);
   // Reference strain of each lock-up curve (weft, warp, shear): the Green strain at the end of
   // its test's fitted range (a bias pull of Green strain e has |ε3| = e).
@@ -494,14 +491,15 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     x_ref[static_cast<std::size_t>(lockup_index(d.direction) - k_first_lockup_param) / 2] = std::max(e, 1e-3);
   }
   const SearchMap map(free, held, options.model, x_ref);
-  // Bounds of each slot of `map`: stiffnesses 1e-4…1e4 of the scale (log), the stiffening law's
-  // kxy from 0, a lock-up stress from 0 to 1e4 of the scale, rates and shares as above.
+  // Bounds of each slot of `map`: stiffnesses 1e-4…1e4 of the scale (log); the stiffening law's
+  // kxy and a lock-up stress (or an l searched alone) from 0, which is no coupling or no lock-up,
+  // to 1e4 of it; rates 0…k_max_lockup_rate; shares k_min_lockup_share…k_max_lockup_share.
   const auto q_bounds = [&](std::size_t j) -> std::pair<double, double> {
     const int k = free[j];
     if (is_lockup_rate(k)) return {0.0, k_max_lockup_rate};
     if (is_lockup_share(k)) return {k_min_lockup_share, k_max_lockup_share};
     if (!map.log_slot(j)) return {0.0, 1e4 * scale};
-    return {std::log((k >= k_first_lockup_param ? 1e-6 : 1e-4) * scale), std::log(1e4 * scale)};
+    return {std::log(1e-4 * scale), std::log(1e4 * scale)};
   };
   // The same in the parameters, for the JSON (a lock-up stress slot bounds l by σ_max/g(0)).
   const auto p_bounds = [&](std::size_t j) -> std::pair<double, double> {
