@@ -51,10 +51,12 @@ InplaneParams inplane_from_array(const std::array<double, k_inplane_param_count>
 // The lock-up rates b and lateral shares a enter nonlinearly; every other parameter enters Ψ
 // linearly.
 constexpr bool is_lockup_rate(int k) { return k == 7 || k == 9 || k == 11; }
-constexpr bool is_lockup_share(int k) { return k == 12 || k == 13; }
+// Index of the first lateral share (axx, then ayy).
+inline constexpr int k_first_share_param = 12;
+constexpr bool is_lockup_share(int k) { return k == k_first_share_param || k == k_first_share_param + 1; }
 constexpr bool enters_linearly(int k) { return !is_lockup_rate(k) && !is_lockup_share(k); }
 // The lock-up curve (0 weft, 1 warp, 2 shear) a lock-up parameter belongs to.
-constexpr int lockup_curve_of(int k) { return is_lockup_share(k) ? k - 12 : (k - k_first_lockup_param) / 2; }
+constexpr int lockup_curve_of(int k) { return is_lockup_share(k) ? k - k_first_share_param : (k - k_first_lockup_param) / 2; }
 
 // Which in-plane law a fit uses: eq. 6.1 alone ("thesis"), or with the lock-up terms
 // ("stiffening").

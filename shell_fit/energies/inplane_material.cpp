@@ -60,7 +60,10 @@ InplaneMaterial InplaneMaterial::parameter_derivative(const InplaneParams& p, do
     const auto l_index = static_cast<std::size_t>(k_first_lockup_param + 2 * curve);
     v[l_index] = enters_linearly(k) ? 1.0 : full[l_index];
     v[l_index + 1] = full[l_index + 1];
-    if (curve < 2) v[static_cast<std::size_t>(12 + curve)] = full[static_cast<std::size_t>(12 + curve)];
+    if (curve < 2) {
+      const auto a_index = static_cast<std::size_t>(k_first_share_param + curve);
+      v[a_index] = full[a_index];
+    }
   } else {
     v[static_cast<std::size_t>(k)] = 1.0;
   }

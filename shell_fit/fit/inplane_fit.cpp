@@ -350,7 +350,8 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
       v[i] = from_data ? l : l_factor * l;
       v[i + 1] = from_data ? b : 1.0;
     }
-    v[12] = v[13] = share;  // held at 0 below where no test pins it
+    // Both shares; held at 0 below where no test pins them.
+    v[k_first_share_param] = v[k_first_share_param + 1] = share;
     return inplane_from_array(v);
   };
   const auto add = [&](const std::string& name, const InplaneParams& p) {
@@ -452,7 +453,7 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     }
     // The lateral shares of the weft and warp lock-up: the width response of a test pins them.
     for (const db::Direction d : {db::Direction::weft, db::Direction::warp}) {
-      const int share = d == db::Direction::weft ? 12 : 13;
+      const int share = k_first_share_param + (d == db::Direction::weft ? 0 : 1);
       if (fabric.stretch_tests.count(d) && result.compression_measured) free.push_back(share);
       else note(share, fabric.stretch_tests.count(d) ? "no compression measured (held at 0)"
                                                      : "no " + std::string(db::to_string(d)) + " test (held at 0)");
