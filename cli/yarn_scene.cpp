@@ -28,6 +28,9 @@ void add_yarn_scene_options(CLI::App& app, YarnSceneArgs& a) {
   app.add_option("--max-iterations", a.max_iterations, "Newton iterations per equilibrium solve")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  app.add_option("--stress-tolerance", a.stress_tolerance,
+                 "A solve also ends once the coarse stress has settled within this [N/m] although forces of "
+                 "slack yarns remain; 0 = off, solve to the force tolerance (default: 1e-6 ks1 / shorter period)");
   app.add_option("--compression-method", a.compression_method,
                  "Zero-orthogonal-stress compression: root (root find on dPsi/dc, default) or cobyla (as in "
                  "the thesis)")
@@ -48,6 +51,7 @@ yarn::YarnSceneSetup scene_setup(const YarnSceneArgs& a) {
   s.rest_shape = a.rest_shape;
   s.rest_rounds = a.rest_rounds;
   s.max_iterations = a.max_iterations;
+  s.stress_tolerance = a.stress_tolerance;
   s.compression = a.compression_method == "cobyla" ? yarn::CompressionMethod::cobyla : yarn::CompressionMethod::root_find;
   return s;
 }
@@ -56,6 +60,8 @@ std::optional<yarn::YarnScene> load_yarn_scene(const YarnSceneArgs& a, std::vect
   const std::size_t before = problems.size();
   if (!(std::isfinite(a.ks2) && a.ks2 >= 0.0))
     problems.push_back("--ks2: " + db::format_g(a.ks2) + ": must be a positive stiffness [N]");
+  if (!(std::isfinite(a.stress_tolerance) && (a.stress_tolerance >= 0.0 || a.stress_tolerance == yarn::EquilibriumOptions{}.stress_tolerance)))
+    problems.push_back("--stress-tolerance: " + db::format_g(a.stress_tolerance) + ": must be a stress ≥ 0 [N/m]");
   db::Problems found;
   auto scene = yarn::load_yarn_scene(scene_setup(a), found);
   bool fixed_missing = false;

@@ -21,6 +21,7 @@ struct YarnSceneArgs {
   bool rest_shape = true;   // run the rest-shape heuristic before loading
   int rest_rounds = yarn::RestShapeOptions{}.rounds;
   int max_iterations = yarn::EquilibriumOptions{}.max_iterations;
+  double stress_tolerance = yarn::EquilibriumOptions{}.stress_tolerance;  // < 0: the system's default
   std::string compression_method = "root";  // root (∂Ψ/∂c = 0) or cobyla
   int threads = 1;
   bool quiet = false;

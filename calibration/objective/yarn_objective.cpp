@@ -100,6 +100,13 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
     const double period = std::min(m_tile.lattice.col(0).norm(), m_tile.lattice.col(1).norm());
     m_options.solve.loose_tolerance = 1e-3 * norm * period;
   }
+  // A solve whose coarse stress has settled within 1e-4 of the smallest stress norm is done
+  // for this objective, whatever force slack yarns still carry (EquilibriumOptions).
+  if (m_options.solve.stress_tolerance < 0.0) {
+    double norm = std::numeric_limits<double>::infinity();
+    for (const auto& sc : m_scales) norm = std::min(norm, sc.stress_norm);
+    m_options.solve.stress_tolerance = 1e-4 * norm;
+  }
 }
 
 void YarnObjective::set_samples(int samples) {

@@ -106,6 +106,8 @@ std::vector<std::string> NewtonOptions::problems() const {
   if (!finite_at_least(time_limit_s, 0.0)) bad("time_limit_s must be finite and ≥ 0 (0: none)");
   if (!finite_at_least(loose_tolerance, 0.0)) bad("loose_tolerance must be finite and ≥ 0 (0: off)");
   if (loose_after < 0) bad("loose_after must be ≥ 0");
+  if (!finite_at_least(readout_tolerance, 0.0)) bad("readout_tolerance must be finite and ≥ 0 (0: off)");
+  if (readout_steps < 1) bad("readout_steps must be ≥ 1");
   if (max_line_search_steps < 1) bad("max_line_search_steps must be ≥ 1");
   if (!(armijo > 0.0 && armijo < 0.5)) bad("armijo must be in (0, 0.5)");
   if (!finite_at_least(shift_initial, 0.0)) bad("shift_initial must be finite and ≥ 0");
@@ -138,6 +140,7 @@ const char* to_string(NewtonStatus status) {
   switch (status) {
     case NewtonStatus::converged: return "converged";
     case NewtonStatus::converged_loosely: return "converged_loosely";
+    case NewtonStatus::converged_readout: return "converged_readout";
     case NewtonStatus::max_iterations: return "max_iterations";
     case NewtonStatus::line_search_failed: return "line_search_failed";
     case NewtonStatus::invalid_start: return "invalid_start";
@@ -219,6 +222,12 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
   bool exact_failed_last = false;        // remember_projection: the exact Hessian failed last iteration
   int nan_trials = 0;                    // trial energies that were NaN (a term breaking its contract)
   const bool predicted_floor = options.precision_floor == PrecisionFloor::predicted_decrease;
+  // The read-out test: the read-out at x, and how many accepted steps in a row changed it by
+  // at most a quarter of the tolerance.
+  Eigen::VectorXd readout, next_readout;
+  const bool watch_readout = options.readout_tolerance > 0.0 && problem.readout(x, readout);
+  int quiet_steps = 0;
+  bool last_step_full = false;
 
   while (true) {
     if (!gradient.allFinite()) {
@@ -229,6 +238,11 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     summary.residual = residual;
     summary.energy = energy;
     if (residual <= options.tolerance) return finish(NewtonStatus::converged, "");
+    if (watch_readout && quiet_steps >= options.readout_steps && last_step_full)
+      return finish(NewtonStatus::converged_readout,
+                    "the read-out changed by at most " + format_number(options.readout_tolerance / 4.0) + " in each of the last " +
+                        std::to_string(quiet_steps) + " steps (residual " + format_number(residual) + " > tolerance " +
+                        format_number(options.tolerance) + ")");
     if (summary.iterations >= options.max_iterations)
       return finish(NewtonStatus::max_iterations, "stopped after " + std::to_string(summary.iterations) +
                                                       " iterations: residual " + format_number(residual) +
@@ -429,6 +443,13 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     if (!std::isfinite(energy))
       return finish(NewtonStatus::non_finite, "the energy became non-finite after the problem was prepared for the new state");
     residual = gradient.allFinite() ? residual_of(gradient) : std::numeric_limits<double>::quiet_NaN();
+    if (watch_readout) {
+      problem.readout(x, next_readout);
+      summary.readout_change = infinity_norm(next_readout - readout);
+      quiet_steps = summary.readout_change <= 0.25 * options.readout_tolerance ? quiet_steps + 1 : 0;
+      last_step_full = !limited && !floor_step;
+      readout.swap(next_readout);
+    }
   }
 }
 

@@ -103,8 +103,13 @@ void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions
 
 }  // namespace
 
-RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions& options) {
+RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions& given) {
   const auto start = std::chrono::steady_clock::now();
+  // Every round solves to the force tolerance: the heuristic's fixed point depends on how far
+  // each round relaxes, and rounds ended by the stress read-out test gave satin_small another
+  // rest shape (σ_s at 10 % weft, c = −0.056: 45.8 N/m instead of 35.8).
+  RestShapeOptions options = given;
+  options.solve.stress_tolerance = 0.0;
   RestShapeResult out;
   system.set_deformation(CoarseDeformation{});
   if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());

@@ -52,7 +52,7 @@ struct RestShapeOptions {
   // The shear stress left is small: the bias direction's rest stress is 1.3 % of its σ_s at
   // 10 % stretch (tests/yarn_fit, RestShapeLeavesLittleCoarseStress...).
   bool period_shear = false;
-  EquilibriumOptions solve;
+  EquilibriumOptions solve;  // its stress_tolerance is not used: every solve goes to the force tolerance
 };
 
 struct RestShapeResult {

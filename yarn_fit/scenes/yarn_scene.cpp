@@ -48,6 +48,7 @@ std::optional<YarnScene> load_yarn_scene(const YarnSceneSetup& setup, db::Proble
   scene.g = Eigen::VectorXd::Zero(scene.system->dof_count());
   scene.angle = direction_angle(setup.direction);
   scene.solve.max_iterations = setup.max_iterations;
+  scene.solve.stress_tolerance = setup.stress_tolerance;
   scene.compression.method = setup.compression;
   return scene;
 }

@@ -29,6 +29,9 @@ struct YarnSceneSetup {
   bool rest_shape = true;  // run the rest-shape heuristic before simulating
   int rest_rounds = RestShapeOptions{}.rounds;
   int max_iterations = EquilibriumOptions{}.max_iterations;  // per equilibrium solve
+  // The stress read-out test of the solves [N/m] (EquilibriumOptions::stress_tolerance):
+  // < 0 = default_stress_tolerance of the tile and parameters, 0 = off.
+  double stress_tolerance = EquilibriumOptions{}.stress_tolerance;
   CompressionMethod compression = CompressionMethod::root_find;
 };
 

@@ -47,6 +47,15 @@ class EquilibriumProblem final : public numerics::NewtonProblem {
       ++m_rebuilds;
     }
   }
+  // The coarse stress of an in-plane state (the bending read-out of a curved one is a
+  // difference quotient of the map and is not watched).
+  bool readout(const Eigen::VectorXd& g, Eigen::VectorXd& values) const override {
+    if (m_system.deformation().curved()) return false;
+    const Eigen::Matrix2d p = m_system.coarse_stress(g);
+    values.resize(3);
+    values << p(0, 0), p(1, 1), 0.5 * (p(0, 1) + p(1, 0));
+    return true;
+  }
   [[nodiscard]] std::string describe_invalid_energy(const Eigen::VectorXd& /*g*/) const override {
     return "yarns overlap inside the inner contact barrier";
   }
@@ -67,6 +76,7 @@ numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, con
   o.time_limit_s = options.time_limit_s;
   o.loose_tolerance = options.loose_tolerance;
   o.loose_after = options.loose_after;
+  o.readout_tolerance = options.stress_tolerance < 0.0 ? default_stress_tolerance(system) : options.stress_tolerance;
   // The exact Hessian gives quadratic convergence near equilibrium, where it is positive
   // definite on the constraint space; the per-element PSD projection is the safeguard when
   // it is not (far from equilibrium, or at an unstable state). Projected-only Newton
@@ -98,6 +108,12 @@ numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, con
   o.floor_residual_factor = 1.0;
   o.roundoff_converged_factor = 1e3;
   return o;
+}
+
+double default_stress_tolerance(const YarnSystem& system) {
+  const Eigen::Matrix2d& lattice = system.tile().lattice;
+  const double period = std::min(lattice.col(0).norm(), lattice.col(1).norm());
+  return 1e-6 * system.params().ks1 / period;
 }
 
 Eigen::VectorXd projected_gradient(const YarnSystem& system, const Eigen::VectorXd& gradient) {

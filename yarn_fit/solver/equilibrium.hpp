@@ -37,7 +37,21 @@ struct EquilibriumOptions {
   // error it accepts says so here, and the status keeps it visible.
   double loose_tolerance = 0.0;
   int loose_after = 60;
+  // The stress read-out test [N/m] (0 = off; < 0 = default_stress_tolerance of the system,
+  // the default): an in-plane solve (κ = 0) also ends, as
+  // converged_readout, once the coarse stress P (3.23) has settled within this tolerance
+  // (NewtonOptions::readout_tolerance: three accepted steps in a row each move P by at most
+  // a quarter of it, the last a full Newton step). On slack tiles Newton creeps along
+  // mechanisms for hundreds of iterations with residual forces far above force_tolerance
+  // while the stress barely moves; a later slide can still move it by a few tolerances
+  // (satin_small, 3 % weft: 0.016 N/m against 4.4e-3), so set it well below what is compared.
+  double stress_tolerance = -1.0;
 };
+
+// 1e-6 · ks1 / (shorter tile period) [N/m]: the line force of a 1e-6 strain of the soft yarn
+// phase, one yarn per period — 4.4e-3 N/m for the 0.1 mm tiles' parameters, a thousandth of
+// their stress at 8 % stretch.
+double default_stress_tolerance(const YarnSystem& system);
 
 using Termination = numerics::NewtonStatus;
 using numerics::to_string;

@@ -278,5 +278,69 @@ TEST(NewtonSolver, OptionsListEveryProblem) {
   EXPECT_THROW((void)solve_newton(problem, x, options), std::invalid_argument);
 }
 
+
+// E = Σ (x_i − c_i)⁶, the order at which a contact barrier (1 − x)⁶ enters: the minimum is
+// degenerate and Newton converges only linearly, x − c ← 0.8 (x − c). Its read-out is Σ x_i.
+class SixthOrderProblem final : public NewtonProblem {
+ public:
+  explicit SixthOrderProblem(Eigen::VectorXd c) : m_c(std::move(c)) {}
+  [[nodiscard]] int size() const override { return static_cast<int>(m_c.size()); }
+  [[nodiscard]] double energy(const Eigen::VectorXd& x) const override { return (x - m_c).array().pow(6).sum(); }
+  double energy_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const override {
+    g = 6.0 * (x - m_c).array().pow(5).matrix();
+    return energy(x);
+  }
+  bool hessian(const Eigen::VectorXd& x, bool, Triplets& lower, std::string*) const override {
+    for (int i = 0; i < size(); ++i) lower.emplace_back(i, i, 30.0 * std::pow(x[i] - m_c[i], 4));
+    return true;
+  }
+  bool readout(const Eigen::VectorXd& x, Eigen::VectorXd& values) const override {
+    if (!m_readout) return false;
+    values = Eigen::VectorXd::Constant(1, x.sum());
+    return true;
+  }
+  Eigen::VectorXd m_c;
+  bool m_readout = true;
+};
+
+TEST(NewtonSolver, ReadoutTestEndsALinearlyConvergingSolveWithinItsTolerance) {
+  const Eigen::VectorXd c = Eigen::Vector2d(0.3, -0.2);
+  const double limit = c.sum();
+  const double tolerance = 1e-3;
+  NewtonOptions options = yarn_like_options();
+  options.tolerance = 0.0;  // unreachable: only the read-out test can end the solve
+  options.max_iterations = 400;
+  options.readout_tolerance = tolerance;
+  SixthOrderProblem problem(c);
+  Eigen::VectorXd x = c + Eigen::Vector2d(1.0, 0.5);
+  const NewtonSummary s = solve_newton(problem, x, options);
+  EXPECT_EQ(s.status, NewtonStatus::converged_readout) << s.brief();
+  EXPECT_TRUE(s.converged());
+  EXPECT_NE(s.message.find("read-out"), std::string::npos) << s.message;
+  // The ratio 0.8 is the worst the test allows for: the read-out is within its tolerance of
+  // the limit, and not already far inside it (the test stops as soon as it may).
+  EXPECT_LE(std::abs(x.sum() - limit), tolerance * (1.0 + 1e-9)) << s.brief();
+  EXPECT_GT(std::abs(x.sum() - limit), 0.1 * tolerance) << s.brief();
+  EXPECT_LE(s.readout_change, 0.25 * tolerance);
+  EXPECT_LT(s.iterations, 60) << s.brief();
+
+  // Without a read-out (or with the test off) the same solve runs to its cap.
+  for (const bool test_off : {false, true}) {
+    SixthOrderProblem again(c);
+    again.m_readout = test_off;  // the test off, or no read-out to test
+    NewtonOptions plain = options;
+    if (test_off) plain.readout_tolerance = 0.0;
+    Eigen::VectorXd y = c + Eigen::Vector2d(1.0, 0.5);
+    const NewtonSummary t = solve_newton(again, y, plain);
+    EXPECT_FALSE(t.converged()) << t.brief();
+    EXPECT_EQ(t.readout_change, 0.0);
+  }
+  options.readout_steps = 0;
+  EXPECT_FALSE(options.is_valid(nullptr));
+  options.readout_steps = 3;
+  options.readout_tolerance = -1.0;
+  EXPECT_FALSE(options.is_valid(nullptr));
+}
+
 }  // namespace
 }  // namespace yarnfit::numerics
