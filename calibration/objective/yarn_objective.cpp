@@ -91,22 +91,18 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
     m_targets.push_back(std::move(t));
   }
   if (m_targets.empty()) throw std::invalid_argument("objective: no direction has stretch targets");
+  double smallest_norm = std::numeric_limits<double>::infinity();
+  for (const auto& sc : m_scales) smallest_norm = std::min(smallest_norm, sc.stress_norm);
   // A solve that reaches its iteration limit with a residual force below 1e-3 of the
   // smallest stress norm times the shorter period changes a read-out by about 1e-3 of what
   // the objective compares it with: accept it as converged_loosely (counted in the result).
   if (m_options.solve.loose_tolerance == 0.0) {
-    double norm = std::numeric_limits<double>::infinity();
-    for (const auto& sc : m_scales) norm = std::min(norm, sc.stress_norm);
     const double period = std::min(m_tile.lattice.col(0).norm(), m_tile.lattice.col(1).norm());
-    m_options.solve.loose_tolerance = 1e-3 * norm * period;
+    m_options.solve.loose_tolerance = 1e-3 * smallest_norm * period;
   }
   // A solve whose coarse stress has settled within 1e-4 of the smallest stress norm is done
   // for this objective, whatever force slack yarns still carry (EquilibriumOptions).
-  if (m_options.solve.stress_tolerance < 0.0) {
-    double norm = std::numeric_limits<double>::infinity();
-    for (const auto& sc : m_scales) norm = std::min(norm, sc.stress_norm);
-    m_options.solve.stress_tolerance = 1e-4 * norm;
-  }
+  if (m_options.solve.stress_tolerance < 0.0) m_options.solve.stress_tolerance = 1e-4 * smallest_norm;
 }
 
 void YarnObjective::set_samples(int samples) {
