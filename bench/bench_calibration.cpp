@@ -1,6 +1,7 @@
 // Yarn-level calibration studies (issue 5, acceptance 2, 3 and 5), printed, not asserted:
 //   profile    the local step's objective at the true parameters and with each one 10 % off
-//   recovery   the profile, then targets simulated from known parameters on the stockinette tile (../shared),
+//   recovery   the profile, then targets simulated from known parameters on a tile of ../shared
+//              (stockinette unless --tile says another),
 //              fitted back: true vs fitted parameters, errors, time per stage
 //   ablations  the same targets fitted without the swarm, with linear stretch (ks1 = ks2,
 //              ε̄s = 0) and without the rest-shape heuristic (thesis Fig. 6.11, 6.16, 6.17),
@@ -15,6 +16,7 @@
 //                               [--truth toe|plated|KS1,EPS_S[,KC1]]   (the known parameters:
 //                               see make_problem; KS1 in ks2, KC1 in kc_base, e.g. 0.2,0.004)
 //                               [--max-stretch S]   (targets over 0..S, 1 % apart; default 0.3)
+//                               [--tile NAME]   (../shared/data/patterns/NAME.pyp; default stockinette)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -59,9 +61,10 @@ struct Problem {
 // R1 stays at 400–19000× in all of them.
 // 31 target points (1 % apart) keep the linear interpolation of the targets between
 // samples well below the fit's errors.
-Problem make_problem(const std::string& shared, const std::string& truth, double max_stretch) {
+Problem make_problem(const std::string& shared, const std::string& tile_name, const std::string& truth,
+                     double max_stretch) {
   db::Problems problems;
-  const auto tile = db::read_pyp(shared + "/data/patterns/stockinette.pyp", problems);
+  const auto tile = db::read_pyp(shared + "/data/patterns/" + tile_name + ".pyp", problems);
   if (!tile) throw std::runtime_error(problems.to_string());
   Problem p;
   p.tile = *tile;
@@ -93,10 +96,10 @@ Problem make_problem(const std::string& shared, const std::string& truth, double
   so.points = static_cast<int>(std::lround(max_stretch / 0.01)) + 1;
   const auto synth = calibration::simulate_yarn_targets(p.tile, p.truth, so);
   p.targets = synth.targets;
-  std::printf("targets: stockinette, %s truth (ks1 %.4g ks2, eps_s %.4g, kc1 %.4g kc_base), weft/bias/warp 0-%.0f %%, "
+  std::printf("targets: %s, %s truth (ks1 %.4g ks2, eps_s %.4g, kc1 %.4g kc_base), weft/bias/warp 0-%.0f %%, "
               "%d points each, simulated in %.1f s\n",
-              truth.c_str(), p.truth.ks1 / p.scales.ks2, p.truth.eps_s, kc1_in_base, 100.0 * max_stretch, so.points,
-              synth.seconds);
+              tile_name.c_str(), truth.c_str(), p.truth.ks1 / p.scales.ks2, p.truth.eps_s, kc1_in_base,
+              100.0 * max_stretch, so.points, synth.seconds);
   return p;
 }
 
@@ -198,6 +201,7 @@ int main(int argc, char** argv) {
   int setting_count = 4;  // `settings` mode: how many rows of the table to run
   int first_setting = 1;  // and from which (1-based)
   std::string truth = "toe";
+  std::string tile = "stockinette";
   double max_stretch = 0.3;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
@@ -219,6 +223,7 @@ int main(int argc, char** argv) {
     else if (key == "--settings") setting_count = std::atoi(value);
     else if (key == "--first-setting") first_setting = std::atoi(value);
     else if (key == "--truth") truth = value;
+    else if (key == "--tile") tile = value;
     else if (key == "--max-stretch") max_stretch = std::atof(value);
     else {
       std::fprintf(stderr, "bench_calibration: unknown option %s\n", key.c_str());
@@ -226,7 +231,7 @@ int main(int argc, char** argv) {
     }
   }
   try {
-    const Problem p = make_problem(shared, truth, max_stretch);
+    const Problem p = make_problem(shared, tile, truth, max_stretch);
     if (mode == "recovery" || mode == "profile") {
       std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), local step %s, at most %d "
                   "evaluations\n",

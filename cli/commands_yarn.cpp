@@ -131,7 +131,7 @@ int run_yarn_sim(const YarnSimArgs& a) {
     std::cout << "yarn sim " << a.scene.pattern << ", " << a.scene.direction << ": s = " << db::format_g(a.stretch)
               << ", c = " << f(out["compression"]) << (a.free_compression ? " (free)" : " (fixed)")
               << (request.bending ? ", curvature " + db::format_g(a.curvature) + " 1/m" : std::string()) << "\n"
-              << "  " << (sample.ok ? "converged" : "NOT converged (" + sample.termination + ")") << ", "
+              << "  " << (sample.ok ? sample.termination : "NOT converged (" + sample.termination + ")") << ", "
               << sample.newton_iterations << " Newton iterations in " << sample.solves << " solve(s), "
               << db::format_g(sample.seconds, 3) << " s\n"
               << "  energy density " << f(out["energy_density"]) << " J/m^2, stress_s " << f(out["stress_s"])
@@ -251,7 +251,8 @@ void add_yarn_commands(CLI::App& app, int& exit_code) {
       "sim", "Simulate the periodic tile under a uniform coarse deformation (stretch s along the direction, "
              "compression c across it, curvature along it) and print the homogenised energy density and "
              "stresses. JSON: energy_density [J/m^2], stress_s and stress_c (dPsi/ds, dPsi/dc) [N/m], "
-             "compression, converged, termination, newton_iterations, solves and seconds of this sample's solves, "
+             "compression, converged, termination (converged, or converged_readout when the solve ended once the "
+             "coarse stress had settled), newton_iterations, solves and seconds of this sample's solves, "
              "effects, stress_kappa [N] with --curvature, rest_shape, params, tile, units. Exit 1 when a solve "
              "does not converge (the JSON says why, with converged=false).");
   add_yarn_scene_options(*sim, sim_args->scene);

@@ -97,8 +97,7 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
   // smallest stress norm times the shorter period changes a read-out by about 1e-3 of what
   // the objective compares it with: accept it as converged_loosely (counted in the result).
   if (m_options.solve.loose_tolerance == 0.0) {
-    const double period = std::min(m_tile.lattice.col(0).norm(), m_tile.lattice.col(1).norm());
-    m_options.solve.loose_tolerance = 1e-3 * smallest_norm * period;
+    m_options.solve.loose_tolerance = 1e-3 * smallest_norm * m_tile.shorter_period();
   }
   // A solve whose coarse stress has settled within 1e-4 of the smallest stress norm is done
   // for this objective, whatever force slack yarns still carry (EquilibriumOptions).

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "numerics/geometry/segment_distance.hpp"
+
 namespace yarnfit::yarn {
 namespace {
 
@@ -26,6 +28,18 @@ struct Box {
 };
 
 }  // namespace
+
+double centreline_distance(const YarnTile& tile, const TilePlacement& placement, const Eigen::VectorXd& g,
+                           const ContactCandidate& pair) {
+  const auto point = [&](int v, const Cell& c) {
+    const Eigen::Vector3d x = placement.position(g, v, c);
+    return numerics::Point3{x.x(), x.y(), x.z()};
+  };
+  const auto& ea = tile.edges[static_cast<std::size_t>(pair.a)];
+  const auto& eb = tile.edges[static_cast<std::size_t>(pair.b)];
+  return numerics::segment_segment_distance(point(ea.v0, {0, 0}), point(ea.v1, ea.cell1), point(eb.v0, pair.cell),
+                                            point(eb.v1, pair.cell + eb.cell1));
+}
 
 void ContactCandidates::rebuild(const YarnTile& tile, const TilePlacement& placement, const Eigen::VectorXd& g,
                                 double cutoff, double skin, double radius, bool find_pairs) {
@@ -71,6 +85,12 @@ void ContactCandidates::rebuild(const YarnTile& tile, const TilePlacement& place
           if (!ba.overlaps(boxes[static_cast<std::size_t>(cell_index * ne + b)], reach)) continue;
           double gap = 0.0;
           if (tile.same_yarn_gap(a, b, cell, gap) && gap < self_gap) continue;
+          // Boxes overlap for about twice as many pairs as come within reach (stockinette at
+          // 30 % weft: 34 % of the box candidates were farther than the cutoff plus skin,
+          // rib 46 %), and every energy, gradient, Hessian and step bound visits each pair.
+          // A pair dropped here keeps zero energy until the list goes stale, as the skin
+          // argument above says; the margin covers the distance's rounding.
+          if (centreline_distance(tile, placement, g, {a, b, cell}) > reach * (1.0 + 1e-9)) continue;
           m_pairs.push_back({a, b, cell});
         }
       }

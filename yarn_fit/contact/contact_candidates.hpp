@@ -20,13 +20,17 @@ struct ContactCandidate {
   Cell cell;
 };
 
+// Distance between the centrelines of the pair's two segments at state g [m].
+double centreline_distance(const YarnTile& tile, const TilePlacement& placement, const Eigen::VectorXd& g,
+                           const ContactCandidate& pair);
+
 class ContactCandidates {
  public:
   // Same-yarn segment pairs closer than this many R of rest arc do not interact (nearby
   // segments of one yarn sit at about their arc distance and must not repel each other).
   static constexpr double kSelfContactArcFactor = 2.5;
 
-  // Rebuilds the list at state g: pairs whose boxes come within `cutoff + skin`, leaving
+  // Rebuilds the list at state g: pairs whose centrelines come within `cutoff + skin`, leaving
   // out same-yarn pairs closer than kSelfContactArcFactor · `radius` of rest arc. With
   // `find_pairs` false (a scene without contact) the list is valid and empty.
   void rebuild(const YarnTile& tile, const TilePlacement& placement, const Eigen::VectorXd& g, double cutoff,

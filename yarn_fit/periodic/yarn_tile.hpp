@@ -16,6 +16,7 @@
 // same energy. Pairs made of ghost copies only are never formed.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -76,6 +77,8 @@ struct YarnTile {
 
   [[nodiscard]] int vertex_count() const { return static_cast<int>(reference.size()); }
   [[nodiscard]] int edge_count() const { return static_cast<int>(edges.size()); }
+  // Length of the shorter period vector [m].
+  [[nodiscard]] double shorter_period() const { return std::min(lattice.col(0).norm(), lattice.col(1).norm()); }
   [[nodiscard]] double area() const {
     return std::abs(lattice(0, 0) * lattice(1, 1) - lattice(0, 1) * lattice(1, 0));
   }

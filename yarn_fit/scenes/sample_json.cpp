@@ -20,7 +20,9 @@ std::string csv_number(bool ok, double v) { return ok && std::isfinite(v) ? db::
 }  // namespace
 
 std::string termination(const Sample& s) {
-  if (s.ok) return "converged";
+  // A good sample says how its last solve stopped: at the force tolerance ("converged") or
+  // once the coarse stress had settled ("converged_readout", EquilibriumOptions::stress_tolerance).
+  if (s.ok) return s.last_solve.converged() ? to_string(s.last_solve.status) : "converged";
   if (s.last_solve.converged()) return "compression_search";
   return to_string(s.last_solve.status);
 }
@@ -66,7 +68,6 @@ SceneSample simulate_scene_sample(YarnScene& scene, const SceneSampleRequest& r)
     out.message = (out.message.empty() ? "" : out.message + "; ") + "rest shape: last solve " +
                   to_string(scene.rest->last_solve.status) + ": " + scene.rest->last_solve.message;
   }
-  if (out.ok) out.termination = "converged";
   return out;
 }
 

@@ -34,14 +34,15 @@ struct SceneSample {
   int solves = 0;
   double seconds = 0.0;
   bool ok = false;            // the rest shape (when it ran), the sample and the bending read-out converged
-  std::string termination;    // "converged", the equilibrium's termination, "compression_search", …
+  std::string termination;    // "converged"/"converged_readout", the failed solve's status, "compression_search", …
   std::string message;        // why not ok
   // The deformation the state `g` belongs to.
   [[nodiscard]] const CoarseDeformation& state_chi() const { return sample.ok ? sample.chi : chi; }
 };
 
-// Short reason for a sample: "converged", the equilibrium's termination, or
-// "compression_search" when every solve converged but no zero-orthogonal-stress c was found.
+// How a sample ended: for a good one its last solve's converged status ("converged", or
+// "converged_readout" when the stress read-out test ended it); else the failed solve's status,
+// or "compression_search" when every solve converged but no zero-orthogonal-stress c was found.
 [[nodiscard]] std::string termination(const Sample& sample);
 
 // Simulates the request from the scene's start state (scene.g is left as it is).

@@ -111,9 +111,7 @@ numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, con
 }
 
 double default_stress_tolerance(const YarnSystem& system) {
-  const Eigen::Matrix2d& lattice = system.tile().lattice;
-  const double period = std::min(lattice.col(0).norm(), lattice.col(1).norm());
-  return 1e-6 * system.params().ks1 / period;
+  return 1e-6 * system.params().ks1 / system.tile().shorter_period();
 }
 
 Eigen::VectorXd projected_gradient(const YarnSystem& system, const Eigen::VectorXd& gradient) {

@@ -1,7 +1,7 @@
 // The Verlet list of contact candidates (yarn_fit/contact/contact_candidates.hpp): every
-// segment pair within the cutoff is a candidate (against a brute-force search over the
-// neighbouring cells), each periodic pair once, and the list says it is stale before a move
-// could bring an unlisted pair within reach.
+// segment pair within the cutoff plus the skin is a candidate and no pair beyond it is
+// (against a brute-force search over the neighbouring cells), each periodic pair once, and the
+// list says it is stale before a move could bring an unlisted pair within reach.
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@ namespace {
 
 using namespace fixtures;
 
-TEST_F(StockinetteSystem, EveryPairWithinTheCutoffIsACandidateOnce) {
+TEST_F(StockinetteSystem, EveryPairWithinReachIsACandidateOnceAndNoOtherIs) {
   YarnSystem system(make_yarn_tile(tile), params);
   const Eigen::VectorXd g = perturbed_state(system, 3);
   system.set_deformation({0.15, 0.03, 0.0, weft_angle()});
@@ -32,8 +32,9 @@ TEST_F(StockinetteSystem, EveryPairWithinTheCutoffIsACandidateOnce) {
     const Eigen::Vector3d p = system.position(g, v, c);
     return numerics::Point3{p.x(), p.y(), p.z()};
   };
+  const double reach = cutoff + system.contacts().skin();
   const int ne = system.tile().edge_count();
-  int within = 0;
+  int within = 0, within_reach = 0;
   for (int a = 0; a < ne; ++a) {
     for (int b = a; b < ne; ++b) {
       for (int ci = -2; ci <= 2; ++ci) {
@@ -48,15 +49,22 @@ TEST_F(StockinetteSystem, EveryPairWithinTheCutoffIsACandidateOnce) {
           const auto& eb = system.tile().edges[static_cast<std::size_t>(b)];
           const double d = numerics::segment_segment_distance(point(ea.v0, {0, 0}), point(ea.v1, ea.cell1),
                                                               point(eb.v0, cell), point(eb.v1, cell + eb.cell1));
-          if (d >= cutoff) continue;
-          ++within;
-          EXPECT_TRUE(listed.count({a, b, ci, cj})) << "pair " << a << "-" << b << " in (" << ci << ", " << cj
-                                                    << ") at " << d << " m is missing";
+          const bool is_listed = listed.count({a, b, ci, cj}) > 0;
+          if (d < cutoff) ++within;
+          if (d < reach) {
+            ++within_reach;
+            EXPECT_TRUE(is_listed) << "pair " << a << "-" << b << " in (" << ci << ", " << cj << ") at " << d
+                                   << " m is missing";
+          } else {
+            EXPECT_FALSE(is_listed && d > reach * (1.0 + 1e-9))
+                << "pair " << a << "-" << b << " in (" << ci << ", " << cj << ") at " << d << " m is beyond reach";
+          }
         }
       }
     }
   }
   EXPECT_GT(within, 0);
+  EXPECT_EQ(within_reach, static_cast<int>(listed.size())) << "the list holds exactly the pairs within reach";
 }
 
 TEST_F(StockinetteSystem, TheListIsStaleBeforeAVertexMovesHalfTheSkin) {
