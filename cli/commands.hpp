@@ -33,6 +33,8 @@ void add_yarn_commands(CLI::App& app, int& exit_code);
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code);
 // `batch` and `batch status` (cli/commands_batch.cpp).
 void add_batch_commands(CLI::App& app, int& exit_code);
+// `tile make` (cli/commands_tile.cpp).
+void add_tile_commands(CLI::App& app, int& exit_code);
 // `report` (cli/commands_report.cpp).
 void add_report_command(CLI::App& app, int& exit_code);
 // The line a written report prints: how many fabrics and where to open it.

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   add_fit_commands(app, *app.get_subcommand("yarn"), exit_code);
   add_batch_commands(app, exit_code);
   add_report_command(app, exit_code);
+  add_tile_commands(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,129 @@
+// `yarnfit tile make`: a relaxed periodic yarn tile of a knit from its chart, stitch length and
+// yarn radius (issue 20; yarn_fit/generate/knit_generation.hpp).
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "fabrics_db/text_util.hpp"
+#include "fabrics_db/tile/knit_chart.hpp"
+#include "yarn_fit/generate/knit_generation.hpp"
+
+namespace yarnfit::cli {
+namespace {
+
+struct TileMakeArgs {
+  std::string chart, out, params_file;
+  double stitch_length_mm = 0.0;
+  double yarn_radius_mm = 0.0;
+  double ks2 = 400.0;
+  int vertices_per_stitch = 16;
+  bool json = false;
+  bool force = false;
+  bool quiet = false;
+};
+
+int run_tile_make(const TileMakeArgs& a) {
+  std::vector<std::string> problems;
+  std::string why;
+  const auto chart = db::parse_knit_chart(a.chart, &why);
+  if (!chart) problems.push_back("--chart: " + why);
+  if (!(std::isfinite(a.stitch_length_mm) && a.stitch_length_mm > 0.0))
+    problems.push_back("--stitch-length-mm: must be a positive length in millimetres");
+  if (!(std::isfinite(a.yarn_radius_mm) && a.yarn_radius_mm > 0.0))
+    problems.push_back("--yarn-radius-mm: must be a positive length in millimetres");
+  if (!(std::isfinite(a.ks2) && a.ks2 > 0.0)) problems.push_back("--ks2: must be a positive stiffness [N]");
+  if (std::filesystem::exists(a.out) && !a.force)
+    problems.push_back(a.out + ": exists (pass --force to replace it)");
+  yarn::TileGenerationOptions o;
+  o.geometry.stitch_length = 1e-3 * a.stitch_length_mm;
+  o.geometry.yarn_radius = 1e-3 * a.yarn_radius_mm;
+  o.geometry.vertices_per_stitch = a.vertices_per_stitch;
+  o.default_ks2 = a.ks2;
+  if (!a.params_file.empty() && problems.empty()) {
+    db::Problems found;
+    const auto params = yarn::read_yarn_params(a.params_file, yarn::ParameterScales{a.ks2, o.geometry.yarn_radius}, found);
+    for (const auto& p : found.items()) problems.push_back(p.to_string());
+    if (params) o.params = *params;
+  }
+  if (problems.empty()) {
+    if (const std::string bad = o.geometry.check(); !bad.empty()) problems.push_back(bad);
+  }
+  if (!problems.empty()) {
+    for (const auto& p : problems) std::cerr << "tile make: " << p << "\n";
+    return k_exit_invalid_input;
+  }
+  yarn::GeneratedTile t;
+  try {
+    t = yarn::generate_knit_tile(*chart, o);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "tile make: " << e.what() << "\n";
+    return k_exit_invalid_input;
+  }
+  if (t.converged && !write_files(a.out, [&] { db::write_pyp(t.tile, a.out); })) return k_exit_internal;
+  if (a.json) {
+    nlohmann::json j = yarn::to_json(t);
+    j["file"] = t.converged ? nlohmann::json(a.out) : nlohmann::json(nullptr);
+    std::cout << j.dump(2) << "\n";
+  } else if (!a.quiet) {
+    const auto mm = [](double metres) { return db::format_g(1e3 * metres, 4); };
+    std::cout << "tile make " << a.chart << " (" << chart->text() << "), L " << db::format_g(a.stitch_length_mm)
+              << " mm, R " << db::format_g(a.yarn_radius_mm) << " mm: " << chart->wales() << " x " << chart->courses()
+              << " stitches, " << t.tile.vertex_count() << " vertices\n"
+              << "  period " << mm(t.tile.period_x) << " x " << mm(t.tile.period_y) << " mm: wales "
+              << mm(t.wale_spacing()) << " mm apart (" << db::format_g(1e-2 / t.wale_spacing(), 4)
+              << " per cm), courses " << mm(t.course_spacing()) << " mm apart ("
+              << db::format_g(1e-2 / t.course_spacing(), 4) << " per cm)\n"
+              << "  rest stress " << db::format_g(100.0 * t.rest_stress_ratio, 3)
+              << " % of sigma_s at 10 % stretch (weft " << db::format_g(t.stress_at_10[0], 4) << ", warp "
+              << db::format_g(t.stress_at_10[1], 4) << " N/m); closest yarns " << mm(t.min_distance) << " mm apart\n"
+              << "  " << (t.converged ? "relaxed" : "NOT relaxed: " + t.message) << " in "
+              << db::format_g(t.seconds, 3) << " s" << (t.converged ? "; wrote " + a.out : std::string()) << "\n";
+  }
+  if (!t.converged) {
+    std::cerr << "tile make: " << t.message << "; nothing written\n";
+    return k_exit_internal;
+  }
+  return k_exit_ok;
+}
+
+}  // namespace
+
+void add_tile_commands(CLI::App& app, int& exit_code) {
+  auto* tile = app.add_subcommand("tile", "Periodic yarn tiles generated for real knits");
+  tile->require_subcommand(1);
+  auto args = std::make_shared<TileMakeArgs>();
+  auto* make = tile->add_subcommand(
+      "make",
+      "Generate a periodic yarn tile of a knit from its chart, stitch length and yarn radius, relax it (yarns at "
+      "rest, contacts resolved, period relaxed until the coarse stress at rest is at most 1 % of sigma_s at 10 % "
+      "stretch in weft and warp) and write it as a pyp file (x axis along the weft). JSON: chart, period_mm, "
+      "wale_spacing_mm, course_spacing_mm, courses_per_cm, wales_per_cm, stitch_length_mm, yarn_radius_mm, "
+      "rest_stress_ratio, converged, seconds, params. Exit 1, writing nothing, when the relaxation fails.");
+  std::string names;
+  for (const auto& n : db::named_knit_charts()) names += (names.empty() ? "" : ", ") + n;
+  make->add_option("--chart", args->chart,
+                   "Named chart (" + names +
+                       ") or rows of k (knit) and p (purl) as the fabric's face shows them, lowest course first, "
+                       "separated by '/', e.g. kp/pk")
+      ->required();
+  make->add_option("--stitch-length-mm", args->stitch_length_mm, "Yarn length per stitch [mm]")->required();
+  make->add_option("--yarn-radius-mm", args->yarn_radius_mm, "Yarn radius [mm]")->required();
+  make->add_option("-o,--out", args->out, "The tile to write (.pyp)")->required();
+  make->add_option("--params", args->params_file,
+                   "Yarn parameters (YAML/JSON, keys of yarn_fit.json's params); default: SPEC section 3's "
+                   "defaults with R_est = the yarn radius");
+  make->add_option("--ks2", args->ks2, "Yarn stretch stiffness for the default parameters [N]")
+      ->capture_default_str();
+  make->add_option("--vertices-per-stitch", args->vertices_per_stitch, "Polyline vertices per stitch")
+      ->check(CLI::Range(8, 200))
+      ->capture_default_str();
+  make->add_flag("--json", args->json, "Print the relaxed tile's facts as JSON");
+  make->add_flag("--force", args->force, "Replace an existing file");
+  make->add_flag("-q,--quiet", args->quiet, "No summary");
+  make->callback([args, &exit_code] { exit_code = run_tile_make(*args); });
+}
+
+}  // namespace yarnfit::cli

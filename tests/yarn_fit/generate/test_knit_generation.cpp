@@ -1,0 +1,97 @@
+// Generated knit tiles relaxed by the periodic simulator (yarn_fit/generate/knit_generation.hpp,
+// homogenise/rest_period.hpp; issue 20, acceptance 2): the coarse stress left at rest is at most
+// 1 % of the tile's σ_s at 10 % stretch in weft and warp, the yarn length per stitch is kept,
+// no barrier is crossed, the written tile is the relaxed state, and the rest period does not
+// depend on where its search starts.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "fabrics_db/tile/knit_chart.hpp"
+#include "yarn_fit/generate/knit_generation.hpp"
+#include "yarn_fit/periodic/yarn_tile.hpp"
+#include "yarn_fit/solver/equilibrium.hpp"
+
+namespace yarnfit::yarn {
+namespace {
+
+TileGenerationOptions options_for(double stitch_length_mm, double radius_mm) {
+  TileGenerationOptions o;
+  o.geometry.stitch_length = 1e-3 * stitch_length_mm;
+  o.geometry.yarn_radius = 1e-3 * radius_mm;
+  return o;
+}
+
+// The four acrylic knits at their own stitch lengths and radii
+// (../shared/data/measured/stitch-by-stitch/README.md).
+TEST(KnitGeneration, AcrylicKnitsRelaxToAStressFreeRestKeepingTheirStitchLength) {
+  struct Case {
+    const char* chart;
+    double stitch_length_mm, radius_mm;
+  };
+  for (const Case& c : std::vector<Case>{{"stockinette", 11.28, 0.74}, {"garter", 10.55, 0.54}, {"rib1x1", 16.10, 1.18},
+                                         {"seed", 15.67, 1.20}}) {
+    SCOPED_TRACE(c.chart);
+    const auto chart = db::parse_knit_chart(c.chart);
+    ASSERT_TRUE(chart);
+    const TileGenerationOptions o = options_for(c.stitch_length_mm, c.radius_mm);
+    const GeneratedTile t = generate_knit_tile(*chart, o);
+    ASSERT_TRUE(t.converged) << t.message;
+    EXPECT_LE(t.rest_stress_ratio, 0.01);
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_GT(t.stress_at_10[i], 0.0);
+      EXPECT_LE(std::abs(t.relaxation.rest_stress(i, i)), 0.01 * t.stress_at_10[i]);
+    }
+    EXPECT_NEAR(t.stitch_length, o.geometry.stitch_length, 1e-9 * o.geometry.stitch_length);
+    EXPECT_GT(t.min_distance, t.params.r2) << "inside the inner contact radius";
+    std::printf("  %-11s L %5.2f mm R %4.2f mm: wales %.3f mm, courses %.3f mm apart; rest stress %.2g %% of "
+                "sigma_s(10 %%) = (%.4g, %.4g) N/m; %.2f s\n",
+                c.chart, c.stitch_length_mm, c.radius_mm, 1e3 * t.wale_spacing(), 1e3 * t.course_spacing(),
+                100.0 * t.rest_stress_ratio, t.stress_at_10[0], t.stress_at_10[1], t.seconds);
+  }
+}
+
+// The pyp tile written is the relaxed state: read back with the same parameters it is in
+// equilibrium at once and carries the same rest stress.
+TEST(KnitGeneration, TheWrittenTileIsTheRelaxedEquilibrium) {
+  const GeneratedTile t = generate_knit_tile(*db::parse_knit_chart("rib1x1"), options_for(16.10, 1.18));
+  ASSERT_TRUE(t.converged) << t.message;
+  db::Problems problems;
+  const auto read = db::parse_pyp(db::format_pyp(t.tile), "relaxed.pyp", problems);
+  ASSERT_TRUE(read) << problems.to_string();
+  YarnSystem system(make_yarn_tile(*read), t.params);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(system.dof_count());
+  const EquilibriumResult r = solve_equilibrium(system, g);
+  ASSERT_TRUE(r.converged()) << r.message;
+  EXPECT_LE(r.iterations, 3) << "already relaxed";
+  const Eigen::Matrix2d p = system.coarse_stress(g);
+  EXPECT_NEAR(p(0, 0), t.relaxation.rest_stress(0, 0), 1e-3 * t.stress_at_10[0]);
+  EXPECT_NEAR(p(1, 1), t.relaxation.rest_stress(1, 1), 1e-3 * t.stress_at_10[1]);
+}
+
+// Two starts, one period: the generated stockinette's tile squeezed by 4 % across and
+// stretched by 3 % along relaxes back to the period it came from.
+TEST(RestPeriod, ASqueezedTileRelaxesBackToTheSamePeriod) {
+  const GeneratedTile t = generate_knit_tile(*db::parse_knit_chart("stockinette"), options_for(11.28, 0.74));
+  ASSERT_TRUE(t.converged) << t.message;
+  YarnSystem system(make_yarn_tile(t.tile), t.params);
+  Eigen::Matrix2d squeeze = Eigen::Matrix2d::Identity();
+  squeeze(0, 0) = 0.96;
+  squeeze(1, 1) = 1.03;
+  system.set_tile(transformed_tile(system.tile(), squeeze));
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(system.dof_count());
+  RestPeriodOptions o;
+  o.tolerance = 1e-3 * t.stress_at_10;
+  const RestPeriodResult r = relax_rest_period(system, g, o);
+  ASSERT_TRUE(r.converged) << r.message;
+  EXPECT_GT(r.steps, 0);
+  EXPECT_NEAR(system.tile().lattice(0, 0), t.tile.period_x, 2e-3 * t.tile.period_x);
+  EXPECT_NEAR(system.tile().lattice(1, 1), t.tile.period_y, 2e-3 * t.tile.period_y);
+}
+
+}  // namespace
+}  // namespace yarnfit::yarn

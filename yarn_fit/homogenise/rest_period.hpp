@@ -1,0 +1,50 @@
+#pragma once
+// The rest period of a tile (HYLC's rest-state step, thesis Appendix A.2.4): the in-plane
+// period stretch E = diag(E00, E11) at which the relaxed tile carries no coarse normal
+// stress at χ = 0, so that the course and wale spacings come out of the mechanics. The rest
+// lengths and curvatures stay as they are (a generated tile keeps its yarn length per stitch);
+// the tile's reference positions and lattice are mapped by I + E (transformed_tile).
+//
+// Newton on P(E) = 0 with a forward-difference Jacobian (two extra equilibria per step),
+// each equilibrium warm-started from the last accepted state; a step is capped at
+// max_step per component and halved until it lowers max_i |P_ii| / tolerance_i. A tile slack
+// along one direction has a near-zero column in the Jacobian: the cap keeps such a step
+// finite and the halving keeps it useful. The shear E01 is not relaxed (the generated charts
+// are mirror-symmetric, so their rest shear stress vanishes by symmetry; rest_shape.hpp says
+// why relaxing it hurts on real tiles).
+
+#include <Eigen/Core>
+#include <string>
+
+#include "yarn_fit/periodic/yarn_system.hpp"
+#include "yarn_fit/solver/equilibrium.hpp"
+
+namespace yarnfit::yarn {
+
+struct RestPeriodOptions {
+  // |P00| ≤ tolerance[0] and |P11| ≤ tolerance[1] [N/m] ends the relaxation.
+  Eigen::Vector2d tolerance = Eigen::Vector2d::Constant(1e-3);
+  int max_steps = 40;
+  double max_step = 0.05;           // |ΔE_ii| per step
+  double jacobian_step = 2e-3;      // forward-difference step of E
+  int halvings = 6;
+  EquilibriumOptions solve;         // its stress_tolerance is not used: solves go to the force tolerance
+};
+
+struct RestPeriodResult {
+  bool converged = false;
+  std::string message;               // why not converged
+  int steps = 0;
+  int solves = 0;
+  int newton_iterations = 0;
+  Eigen::Matrix2d period_stretch = Eigen::Matrix2d::Zero();  // E applied to the input tile
+  Eigen::Matrix2d rest_stress = Eigen::Matrix2d::Zero();     // P at χ = 0 after [N/m]
+  Eigen::Matrix2d initial_stress = Eigen::Matrix2d::Zero();  // P at χ = 0 before [N/m]
+  double seconds = 0.0;
+};
+
+// Relaxes the system's tile period in place (set_tile) and `g` with it; on failure the tile
+// and `g` are those of the best accepted step (the input when none was).
+RestPeriodResult relax_rest_period(YarnSystem& system, Eigen::VectorXd& g, const RestPeriodOptions& options = {});
+
+}  // namespace yarnfit::yarn
