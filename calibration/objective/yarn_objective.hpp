@@ -74,8 +74,8 @@ struct ObjectiveOptions {
   yarn::RestShapeOptions rest;
   yarn::CompressionOptions compression;
   // Solver settings; a loose_tolerance of 0 becomes 1e-3 · (smallest comfort stress norm) ·
-  // (shorter period) and a negative stress_tolerance 1e-4 · (smallest comfort stress norm)
-  // when the objective is built.
+  // (shorter period) and a negative stress_tolerance 0 (the read-out test off: see the
+  // constructor) when the objective is built.
   yarn::EquilibriumOptions solve;
   double comfort_line_force = 100.0 / 3.0;  // N/m: 2 N on a 6 cm swatch
   double min_compression_norm = 1e-3;

@@ -58,8 +58,7 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
 
   YarnSystem system(make_yarn_tile(out.initial.tile), out.params);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(system.dof_count());
-  EquilibriumOptions solve = options.solve;
-  solve.stress_tolerance = 0.0;
+  const EquilibriumOptions& solve = options.solve;
   // The first tolerance: a guess from the stiffness of the soft phase (1e-2 of ks1 per wale
   // spacing, the line force of a 1 % strain of one yarn per wale); every later round uses the
   // measured σ_s(10 %).
@@ -77,7 +76,12 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
     out.stress_at_10 = {stress_at_ten_percent(system, g, weft_angle(), solve),
                         stress_at_ten_percent(system, g, warp_angle(), solve)};
     if (!out.stress_at_10.allFinite() || !(out.stress_at_10.minCoeff() > 0.0)) {
-      out.message = "the stretch to 10 % in weft or warp failed or gave no positive stress";
+      // A loose tile (thin yarn, long loops) may not resist 10 % stretch at all, or its free-
+      // compression search may not settle: without a positive σ_s(10 %) there is no scale
+      // for "stress-free at rest".
+      const auto said = [](double v) { return std::isfinite(v) ? std::to_string(v) + " N/m" : std::string("failed"); };
+      out.message = "sigma_s at 10 % stretch is weft " + said(out.stress_at_10[0]) + ", warp " +
+                    said(out.stress_at_10[1]) + ": no positive scale for the rest stress (a slack tile?)";
       break;
     }
     const Eigen::Vector2d rest(out.relaxation.rest_stress(0, 0), out.relaxation.rest_stress(1, 1));

@@ -19,8 +19,7 @@ Eigen::Matrix2d diagonal_strain(const Eigen::Vector2d& e) {
 
 RestPeriodResult relax_rest_period(YarnSystem& system, Eigen::VectorXd& g, const RestPeriodOptions& given) {
   const auto start = std::chrono::steady_clock::now();
-  RestPeriodOptions options = given;
-  options.solve.stress_tolerance = 0.0;  // P is what is driven to zero: solve it fully
+  const RestPeriodOptions& options = given;
   RestPeriodResult out;
   const YarnTile base = system.tile();
   if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());

@@ -28,7 +28,9 @@ struct RestPeriodOptions {
   double max_step = 0.05;           // |ΔE_ii| per step
   double jacobian_step = 2e-3;      // forward-difference step of E
   int halvings = 6;
-  EquilibriumOptions solve;         // its stress_tolerance is not used: solves go to the force tolerance
+  // A loose tile creeps along mechanisms at rest (thin yarns, long loops): the stress read-out
+  // test (its default) ends such a solve once P has settled, well below the tolerance above.
+  EquilibriumOptions solve;
 };
 
 struct RestPeriodResult {
