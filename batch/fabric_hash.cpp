@@ -21,7 +21,7 @@ std::vector<fs::path> record_files(const db::FabricLoad& load) {
     const db::Fabric& f = *load.fabric;
     for (const auto& [d, t] : f.stretch_tests) files.push_back(t.file);
     for (const auto& [d, t] : f.bending_tests) files.push_back(t.file);
-    if (f.pattern) files.push_back(f.pattern->file);
+    if (f.pattern && !f.pattern->knit) files.push_back(f.pattern->file);  // a knit is in fabric.yaml
   } else {
     std::error_code ec;
     for (fs::recursive_directory_iterator it(load.folder, ec), end; !ec && it != end; it.increment(ec))

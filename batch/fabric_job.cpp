@@ -36,6 +36,7 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   o.shell.threads = options.threads_per_job;
   o.yarn.threads = options.threads_per_job;
   o.yarn.checkpoint = swarm_checkpoint_file(out);
+  o.tile_cache = options.out / "tiles";  // shared: fabrics of one knit and scale reuse one tile
   o.yarn.resume = spec.resume && fs::exists(o.yarn.checkpoint);
   if (!o.yarn.resume) fs::remove(o.yarn.checkpoint);
   if (stage) {

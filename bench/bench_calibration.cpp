@@ -16,7 +16,8 @@
 //                               [--truth toe|plated|KS1,EPS_S[,KC1]]   (the known parameters:
 //                               see make_problem; KS1 in ks2, KC1 in kc_base, e.g. 0.2,0.004)
 //                               [--max-stretch S]   (targets over 0..S, 1 % apart; default 0.3)
-//                               [--tile NAME]   (../shared/data/patterns/NAME.pyp; default stockinette)
+//                               [--tile NAME|PATH]   (../shared/data/patterns/NAME.pyp, or a .pyp file;
+//                                                   default stockinette)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -64,7 +65,9 @@ struct Problem {
 Problem make_problem(const std::string& shared, const std::string& tile_name, const std::string& truth,
                      double max_stretch) {
   db::Problems problems;
-  const auto tile = db::read_pyp(shared + "/data/patterns/" + tile_name + ".pyp", problems);
+  // A name of ../shared/data/patterns, or a path to a .pyp (e.g. from yarnfit tile make).
+  const bool is_path = tile_name.find('/') != std::string::npos || tile_name.ends_with(".pyp");
+  const auto tile = db::read_pyp(is_path ? tile_name : shared + "/data/patterns/" + tile_name + ".pyp", problems);
   if (!tile) throw std::runtime_error(problems.to_string());
   Problem p;
   p.tile = *tile;

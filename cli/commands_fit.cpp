@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "calibration/problem/generated_pattern.hpp"
 #include "calibration/problem/yarn_fit_problem.hpp"
 #include "cli/commands.hpp"
 #include "cli/fit_args.hpp"
@@ -47,7 +48,11 @@ int run_yarn_fit(const YarnFitArgs& a) {
   const auto load = db::load_fabric(a.fabric);
   problems.append(load.problems);
   std::optional<calibration::YarnFitProblem> problem;
-  if (load.ok()) problem = calibration::make_yarn_fit_problem(*load.fabric, problems);
+  if (load.ok()) {
+    db::Fabric fabric = *load.fabric;  // a knit's tile is generated into the output folder
+    if (calibration::make_generated_pattern(fabric, a.out, problems))
+      problem = calibration::make_yarn_fit_problem(fabric, problems);
+  }
   calibration::YarnFitSettings settings = settings_from(a, problems);
   if (problem && !a.start.empty()) calibration::read_start(*problem, a.start, a.linear_stretch, problems);
   auto targets = db::read_uniform_targets(a.targets, problems);
@@ -106,6 +111,7 @@ int run_fit(const YarnFitArgs& a) {
   const auto load = db::load_fabric(a.fabric);
   problems.append(load.problems);
   pipeline::PipelineOptions options = pipeline_options(a, problems);
+  options.tile_cache = a.out;  // a tile generated for a knit is kept with the outputs
   problems.append(load.ok() ? pipeline::pipeline_problems(*load.fabric, options) : options.problems());
   problems.append(pipeline::output_problems(a.out, pipeline::pipeline_output_files(), a.force));
   if (!a.no_report) problems.append(pipeline::output_problems(a.out, report_files(), a.force));

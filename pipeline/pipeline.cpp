@@ -3,6 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "calibration/problem/generated_pattern.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 
 namespace yarnfit::pipeline {
@@ -26,13 +27,33 @@ std::optional<calibration::YarnFitProblem> yarn_problem(const db::Fabric& fabric
   return problem;
 }
 
-PipelineResult run(const db::Fabric& fabric, const PipelineOptions& options, Clock::time_point start) {
+// A record whose pattern is a knit whose tile the yarn stage must generate first.
+bool tile_to_generate(const db::Fabric& fabric) {
+  return fabric.pattern && fabric.pattern->knit && !fabric.pattern->has_tile();
+}
+
+// What can be checked of such a record before its tile exists.
+void check_generated_pattern(const db::Fabric& fabric, const PipelineOptions& options, db::Problems& problems) {
+  const std::string yaml = (fabric.folder / db::k_fabric_file_name).string();
+  if (options.tile_cache.empty())
+    problems.add("", 0, "tile_cache", "the pattern is a knit to generate: say where generated tiles are kept");
+  if (!fabric.stiffest_yarn_stiffness())
+    problems.add(yaml, 0, "yarns.stiffness_N", "missing; a yarn fit needs the stiffest yarn's stretch stiffness (sets ks2, SPEC §3)");
+}
+
+PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Clock::time_point start) {
   PipelineResult result;
-  result.fabric_id = fabric.id;
-  result.fabric_folder = fabric.folder;
+  result.fabric_id = given.id;
+  result.fabric_folder = given.folder;
   result.yarn_settings = options.yarn;
   result.problems = options.problems();
-  if (options.stages == Stages::all) result.yarn_problem = yarn_problem(fabric, options, result.problems);
+  db::Fabric fabric = given;
+  if (options.stages == Stages::all && tile_to_generate(fabric)) {
+    check_generated_pattern(fabric, options, result.problems);
+    if (result.problems.empty()) calibration::make_generated_pattern(fabric, options.tile_cache, result.problems);
+  }
+  if (options.stages == Stages::all && !tile_to_generate(fabric))
+    result.yarn_problem = yarn_problem(fabric, options, result.problems);
   if (!result.problems.empty()) {
     result.status = PipelineStatus::invalid_input;
     result.message = "invalid input: nothing was run";
@@ -97,7 +118,9 @@ db::Problems PipelineOptions::problems() const {
 
 db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options) {
   db::Problems problems = options.problems();
-  if (options.stages == Stages::all) (void)yarn_problem(fabric, options, problems);
+  if (options.stages != Stages::all) return problems;
+  if (tile_to_generate(fabric)) check_generated_pattern(fabric, options, problems);
+  else (void)yarn_problem(fabric, options, problems);
   return problems;
 }
 

@@ -39,6 +39,9 @@ struct PipelineOptions {
   // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
   // whatever yarn.swarm says (calibration::settings_for).
   std::filesystem::path start;
+  // Where tiles generated for records whose pattern names a knit are kept and looked up
+  // (calibration/problem/generated_pattern.hpp); required for such records.
+  std::filesystem::path tile_cache;
 
   // Every invalid field, named "shell.<field>" or "yarn.<field>" (shell::ShellFitOptions,
   // calibration::YarnFitSettings; the yarn settings only when the yarn stage runs); empty

@@ -19,11 +19,18 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
   if (!stiffness)
     problems.add(yaml, 0, "yarns.stiffness_N",
                  "missing; a yarn fit needs the stiffest yarn's stretch stiffness (sets ks2, SPEC §3)");
+  if (fabric.pattern && !fabric.pattern->has_tile())
+    problems.add(yaml, 0, "pattern.knit",
+                 "the tile of this knit is not made yet: yarnfit fit and batch generate it (or make it with yarnfit "
+                 "tile make and name it with pattern: {file: ...})");
   if (problems.size() != before) return std::nullopt;
   YarnFitProblem problem;
   problem.fabric_id = fabric.id;
   problem.family = fabric.family;
-  problem.scales = {*stiffness, fabric.pattern->facts.r_est};
+  // A generated tile was relaxed with contact radius R1 = the knit's yarn radius (its yarns
+  // rest pressed into each other, so its geometric R_est is smaller): the bounds are centred
+  // on the radius it was made with, which the generation's parameters then lie inside.
+  problem.scales = {*stiffness, fabric.pattern->knit ? fabric.pattern->knit->yarn_radius : fabric.pattern->facts.r_est};
   const std::string pyp = fabric.pattern->file.string();
   try {
     problem.tile = yarn::make_yarn_tile(fabric.pattern->tile);

@@ -4,8 +4,9 @@
 // simulation —
 //   tile      the record's periodic tile, turned so that its weft runs along x (the
 //             objective pulls along the tile's x axis for the weft);
-//   scales    ks2 from the stiffest yarn's stiffness_N, R_est from the tile facts (they fix
-//             ks2, kc2, R2 and anchor the bounds of the fitted parameters);
+//   scales    ks2 from the stiffest yarn's stiffness_N, R_est from the tile facts, or the
+//             knit's yarn radius for a generated tile (they fix ks2, kc2, R2 and anchor the
+//             bounds of the fitted parameters);
 //   targets   the uniform targets, from uniform_targets.csv or handed over in memory;
 //   start     optional parameters the local step starts from (--start), inside the bounds.
 // Every problem found is listed at once, each naming its file and field; nothing runs then.

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 
 namespace yarnfit::db {
@@ -88,11 +89,22 @@ struct BendingTest {
 
 enum class Axis { x, y };
 
+// A tile to generate from the knit (`pattern: {knit: seed, stitch_length_mm: 15.67,
+// yarn_radius_mm: 1.2}`, issue 20): made when a yarn fit needs it, never in the fabric's folder.
+struct KnitSpec {
+  KnitChart chart;
+  double stitch_length = 0.0;  // [m]
+  double yarn_radius = 0.0;    // [m]
+};
+
 struct PatternRef {
-  std::filesystem::path file;  // resolved path of the .pyp tile
+  std::filesystem::path file;  // resolved path of the .pyp tile (the generated one, once made)
   Axis weft_axis = Axis::x;    // tile axis that runs along the weft
+  std::optional<KnitSpec> knit;  // set: the tile is generated from it (file, tile and facts
+                                 // are empty until then)
   PeriodicTile tile;
-  TileFacts facts;             // computed once when the record is read
+  TileFacts facts;             // computed once when the tile is read or generated
+  [[nodiscard]] bool has_tile() const { return tile.vertex_count() > 0; }
 };
 
 struct Fabric {

@@ -144,7 +144,7 @@ const std::vector<std::string> k_yarn_keys{"material", "denier", "filaments", "m
 const std::vector<std::string> k_size_keys{"length_mm", "width_mm"};
 const std::vector<std::string> k_stretch_keys{"file", "swatch", "gauge"};
 const std::vector<std::string> k_bending_keys{"file", "swatch"};
-const std::vector<std::string> k_pattern_keys{"file", "weft_axis"};
+const std::vector<std::string> k_pattern_keys{"file", "weft_axis", "knit", "stitch_length_mm", "yarn_radius_mm"};
 const std::vector<std::string> k_direction_names{"weft", "bias", "warp"};
 
 std::optional<Swatch> read_swatch(YamlChecker& y, const YAML::Node& node, const std::string& path) {
@@ -244,6 +244,29 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
     else if (*axis == "y") ref.weft_axis = Axis::y;
     else y.problem(YamlChecker::find(node, "weft_axis").first, "pattern.weft_axis",
                    "expected x or y, got '" + *axis + "'");
+  }
+  const bool has_file = YamlChecker::find(node, "file").second.IsDefined();
+  const auto [knit_key, knit_node] = YamlChecker::find(node, "knit");
+  if (knit_node.IsDefined()) {
+    // A generated tile: the chart, the yarn length per stitch and the yarn radius.
+    if (has_file) y.problem(knit_key, "pattern.knit", "give either file (a tile) or knit (a tile to generate), not both");
+    const auto chart_text = y.text(node, "knit", "pattern", true);
+    const auto length = y.number(node, "stitch_length_mm", "pattern", true, true);
+    const auto radius = y.number(node, "yarn_radius_mm", "pattern", true, true);
+    std::optional<KnitChart> chart;
+    if (chart_text) {
+      std::string why;
+      chart = parse_knit_chart(*chart_text, &why);
+      if (!chart) y.problem(knit_node, "pattern.knit", why);
+    }
+    if (has_file || !chart || !length || !radius) return;
+    ref.knit = KnitSpec{*chart, *length * k_mm, *radius * k_mm};
+    fabric.pattern = std::move(ref);
+    return;
+  }
+  for (const char* knit_only : {"stitch_length_mm", "yarn_radius_mm"}) {
+    const auto [k, v] = YamlChecker::find(node, knit_only);
+    if (v.IsDefined()) y.problem(k, std::string("pattern.") + knit_only, "only with knit (a tile to generate)");
   }
   const auto file = read_file_ref(y, node, "pattern", fabric.folder);
   if (!file) return;

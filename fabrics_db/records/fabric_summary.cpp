@@ -109,7 +109,15 @@ json describe_fabric(const Fabric& fabric) {
          {"stretch_tests", stretch},
          {"bending_tests", bending},
          {"ground_truth", fabric.ground_truth}};
-  if (fabric.pattern) {
+  if (fabric.pattern && !fabric.pattern->has_tile() && fabric.pattern->knit) {
+    const KnitSpec& k = *fabric.pattern->knit;
+    j["pattern"] = json{{"knit", k.chart.name},
+                        {"chart_rows", k.chart.text()},
+                        {"stitch_length_mm", 1e3 * k.stitch_length},
+                        {"yarn_radius_mm", 1e3 * k.yarn_radius},
+                        {"generated", false},
+                        {"weft_axis", fabric.pattern->weft_axis == Axis::x ? "x" : "y"}};
+  } else if (fabric.pattern) {
     json p = describe_tile(fabric.pattern->tile, fabric.pattern->facts);
     p["file"] = fabric.pattern->file.string();
     p["weft_axis"] = fabric.pattern->weft_axis == Axis::x ? "x" : "y";

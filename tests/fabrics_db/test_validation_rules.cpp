@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "fabrics_db/records/fabric_reader.hpp"
 #include "tests/fabrics_db/fabric_fixture.hpp"
 
 namespace yarnfit::testing {
@@ -63,6 +64,29 @@ std::vector<BrokenCase> broken_cases() {
          replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp, weft_axis: z}\nswatch: {length_mm: 100");
        },
        expect_line("fabric.yaml", 14, "pattern.weft_axis: expected x or y")},
+      {"KnitUnknownChart", [](P d) {
+         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100",
+                         "pattern: {knit: stockinet, stitch_length_mm: 11, yarn_radius_mm: 0.7}\nswatch: {length_mm: 100");
+       },
+       expect_line("fabric.yaml", 14, "pattern.knit: unknown chart 'stockinet'")},
+      {"KnitWithoutRadius", [](P d) {
+         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {knit: seed, stitch_length_mm: 15}\nswatch: {length_mm: 100");
+       },
+       expect_line("fabric.yaml", 14, "pattern.yarn_radius_mm: missing required key")},
+      {"KnitNegativeStitchLength", [](P d) {
+         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100",
+                         "pattern: {knit: kp/pk, stitch_length_mm: -1, yarn_radius_mm: 1}\nswatch: {length_mm: 100");
+       },
+       expect_line("fabric.yaml", 14, "pattern.stitch_length_mm: must be positive")},
+      {"KnitAndFile", [](P d) {
+         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100",
+                         "pattern: {file: tile.pyp, knit: seed, stitch_length_mm: 15, yarn_radius_mm: 1}\nswatch: {length_mm: 100");
+       },
+       expect_line("fabric.yaml", 14, "pattern.knit: give either file")},
+      {"StitchLengthWithoutKnit", [](P d) {
+         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp, stitch_length_mm: 15}\nswatch: {length_mm: 100");
+       },
+       expect_line("fabric.yaml", 14, "pattern.stitch_length_mm: only with knit")},
       {"CsvMissingColumn", [](P d) { replace_in_file(d / "stretch_weft.csv", "stretch,force_N", "strech,force_N"); },
        expect_line("stretch_weft.csv", 1, "stretch: missing required column (did you mean 'strech'?)")},
       {"BendingCsvMissingColumn", [](P d) { replace_in_file(d / "bend_weft.csv", "aspect_ratio", "ratio"); },
@@ -162,6 +186,22 @@ TEST(ValidateRecord, BaseRecordIsValid) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   EXPECT_NE(r.out.find("1 fabric: 1 valid, 0 invalid"), std::string::npos) << r.out;
+}
+
+// A pattern may name a knit whose tile yarnfit generates: read, with no tile yet.
+TEST(ValidateRecord, AKnitPatternIsReadWithoutATile) {
+  ScratchDir dir("knit_pattern");
+  write_base_fabric(dir / "K");
+  replace_in_file(dir / "K" / "fabric.yaml", "swatch: {length_mm: 100",
+                  "pattern: {knit: rib2x2, stitch_length_mm: 16.1, yarn_radius_mm: 1.18}\nswatch: {length_mm: 100");
+  const auto load = yarnfit::db::load_fabric(dir / "K");
+  ASSERT_TRUE(load.ok()) << load.problems.to_string();
+  const auto& pattern = load.fabric->pattern;
+  ASSERT_TRUE(pattern && pattern->knit);
+  EXPECT_EQ(pattern->knit->chart.text(), "kkpp");
+  EXPECT_DOUBLE_EQ(pattern->knit->stitch_length, 16.1e-3);
+  EXPECT_DOUBLE_EQ(pattern->knit->yarn_radius, 1.18e-3);
+  EXPECT_FALSE(pattern->has_tile());
 }
 
 TEST(ValidateRecord, ReportsEveryProblemNotOnlyTheFirst) {

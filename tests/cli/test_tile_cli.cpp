@@ -1,0 +1,58 @@
+// `yarnfit tile make` (issue 20): a relaxed tile written and described in JSON with the
+// fields SPEC §5 names, an existing file left alone without --force, and bad arguments named.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+#include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/test_support.hpp"
+
+namespace yarnfit::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(TileCli, MakesARelaxedTileAndSaysWhatItIs) {
+  ScratchDir dir("tile_make");
+  const fs::path out = dir / "rib.pyp";
+  const auto r = run_cli("tile make --chart rib1x1 --stitch-length-mm 16.1 --yarn-radius-mm 1.18 --json --out " + quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"period_mm", "courses_per_cm", "wales_per_cm", "stitch_length_mm", "yarn_radius_mm",
+                          "rest_stress_ratio", "converged", "seconds"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_LE(j["rest_stress_ratio"].get<double>(), 0.01);
+  EXPECT_NEAR(j["stitch_length_mm"].get<double>(), 16.1, 1e-9);
+  EXPECT_DOUBLE_EQ(j["yarn_radius_mm"].get<double>(), 1.18);
+  db::Problems problems;
+  const auto tile = db::read_pyp(out, problems);
+  ASSERT_TRUE(tile) << problems.to_string();
+  EXPECT_EQ(tile->vertex_count(), 2 * 16);
+  EXPECT_NEAR(1e3 * tile->period_x, j["period_mm"][0].get<double>(), 1e-9);
+  EXPECT_NEAR(10.0 / (1e3 * tile->period_x / 2.0), j["wales_per_cm"].get<double>(), 1e-9);
+
+  // Not replaced without --force.
+  const std::string before = read_file(out);
+  const auto again = run_cli("tile make --chart seed --stitch-length-mm 15.67 --yarn-radius-mm 1.2 --out " + quoted(out));
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("exists (pass --force to replace it)"), std::string::npos) << again.err;
+  EXPECT_EQ(read_file(out), before);
+}
+
+TEST(TileCli, BadArgumentsAreNamed) {
+  ScratchDir dir("tile_make_bad");
+  const auto r = run_cli("tile make --chart kx/p --stitch-length-mm 0 --yarn-radius-mm 1 --out " + quoted(dir / "t.pyp"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--chart: unknown chart 'kx/p'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--stitch-length-mm: must be a positive length"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "t.pyp"));
+  const auto tight = run_cli("tile make --chart seed --stitch-length-mm 3 --yarn-radius-mm 1 --out " + quoted(dir / "t.pyp"));
+  EXPECT_EQ(tight.exit_code, 2);
+  EXPECT_NE(tight.err.find("too short"), std::string::npos) << tight.err;
+}
+
+}  // namespace
+}  // namespace yarnfit::testing
