@@ -107,8 +107,16 @@ void print_fabric(std::ostream& out, const json& f) {
         << " points, clamp distance " << range(t["clamp_distance_m"], 4, 1e3)
         << " mm, aspect ratio " << range(t["aspect_ratio"]) << "\n";
   }
-  if (f["pattern"].is_null()) out << "  pattern: none (needed for a yarn fit)\n";
-  else print_tile(out, f["pattern"]);
+  if (f["pattern"].is_null()) {
+    out << "  pattern: none (needed for a yarn fit)\n";
+  } else if (f["pattern"].contains("knit")) {
+    const auto& k = f["pattern"];
+    out << "  pattern: " << k["knit"].get<std::string>() << " (" << k["chart_rows"].get<std::string>()
+        << "), stitch length " << db::format_g(k["stitch_length_mm"].get<double>()) << " mm, yarn radius "
+        << db::format_g(k["yarn_radius_mm"].get<double>()) << " mm: generated when a yarn fit needs it\n";
+  } else {
+    print_tile(out, f["pattern"]);
+  }
   if (!f["ground_truth"].empty()) out << "  ground truth: " << f["ground_truth"].dump() << "\n";
 }
 

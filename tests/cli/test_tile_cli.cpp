@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/fabrics_db/fabric_fixture.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::testing {
@@ -52,6 +53,22 @@ TEST(TileCli, BadArgumentsAreNamed) {
   const auto tight = run_cli("tile make --chart seed --stitch-length-mm 3 --yarn-radius-mm 1 --out " + quoted(dir / "t.pyp"));
   EXPECT_EQ(tight.exit_code, 2);
   EXPECT_NE(tight.err.find("too short"), std::string::npos) << tight.err;
+}
+
+// A record naming a knit validates, and `db show` says what will be generated.
+TEST(TileCli, ARecordNamingAKnitIsShownAsTheTileToGenerate) {
+  ScratchDir dir("knit_record");
+  write_base_fabric(dir / "K");
+  replace_in_file(dir / "K" / "fabric.yaml", "swatch: {length_mm: 100",
+                  "pattern: {knit: seed, stitch_length_mm: 15.67, yarn_radius_mm: 1.2}\nswatch: {length_mm: 100");
+  const auto valid = run_cli("db validate " + quoted(dir / "K"));
+  EXPECT_EQ(valid.exit_code, 0) << valid.err;
+  const auto shown = run_cli("db show " + quoted(dir / "K"));
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  EXPECT_NE(shown.out.find("pattern: seed (kp/pk), stitch length 15.67 mm, yarn radius 1.2 mm: generated when a yarn "
+                           "fit needs it"),
+            std::string::npos)
+      << shown.out;
 }
 
 }  // namespace
