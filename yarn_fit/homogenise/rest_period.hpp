@@ -5,11 +5,13 @@
 // lengths and curvatures stay as they are (a generated tile keeps its yarn length per stitch);
 // the tile's reference positions and lattice are mapped by I + E (transformed_tile).
 //
-// Newton on P(E) = 0 with a forward-difference Jacobian (two extra equilibria per step),
-// each equilibrium warm-started from the last accepted state; a step is capped at
-// max_step per component and halved until it lowers max_i |P_ii| / tolerance_i. A tile slack
-// along one direction has a near-zero column in the Jacobian: the cap keeps such a step
-// finite and the halving keeps it useful. The shear E01 is not relaxed (the generated charts
+// The rest period minimises the tile's energy W(E) = min_g E(g; E), whose gradient is the
+// coarse stress (A P_ii / (1 + E_ii), A the current area): Newton steps on W with a
+// forward-difference Hessian (two extra equilibria per step), shifted until positive
+// definite where W is not convex, capped at max_step per component and halved until W
+// decreases (Armijo), each equilibrium warm-started from the last accepted state. (Newton on
+// P(E) = 0 with a max-norm merit stalled on the acrylic stockinette: its Jacobian was
+// indefinite at +25 % while the rest stress was still −3000 N/m.) The shear E01 is not relaxed (the generated charts
 // are mirror-symmetric, so their rest shear stress vanishes by symmetry; rest_shape.hpp says
 // why relaxing it hurts on real tiles).
 
