@@ -59,8 +59,7 @@ TEST(TileCli, BadArgumentsAreNamed) {
 TEST(TileCli, ARecordNamingAKnitIsShownAsTheTileToGenerate) {
   ScratchDir dir("knit_record");
   write_base_fabric(dir / "K");
-  replace_in_file(dir / "K" / "fabric.yaml", "swatch: {length_mm: 100",
-                  "pattern: {knit: seed, stitch_length_mm: 15.67, yarn_radius_mm: 1.2}\nswatch: {length_mm: 100");
+  add_pattern_line(dir / "K", "{knit: seed, stitch_length_mm: 15.67, yarn_radius_mm: 1.2}");
   const auto valid = run_cli("db validate " + quoted(dir / "K"));
   EXPECT_EQ(valid.exit_code, 0) << valid.err;
   const auto shown = run_cli("db show " + quoted(dir / "K"));

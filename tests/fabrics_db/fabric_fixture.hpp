@@ -66,4 +66,10 @@ inline void replace_in_file(const fs::path& file, const std::string& from, const
   write_file(file, text);
 }
 
+// Gives the base record in `folder` a pattern line (a YAML flow map such as
+// "{knit: seed, stitch_length_mm: 15.67, yarn_radius_mm: 1.2}") on line 14, before the swatch.
+inline void add_pattern_line(const fs::path& folder, const std::string& pattern_flow) {
+  replace_in_file(folder / "fabric.yaml", "swatch: {length_mm: 100", "pattern: " + pattern_flow + "\nswatch: {length_mm: 100");
+}
+
 }  // namespace yarnfit::testing

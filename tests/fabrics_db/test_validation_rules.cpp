@@ -48,43 +48,40 @@ std::vector<BrokenCase> broken_cases() {
        expect_line("fabric.yaml", 18, "stretch_tests.warp.file: cannot read")},
       {"MissingBendingFile", [](P d) { fs::remove(d / "bend_weft.csv"); },
        expect_line("fabric.yaml", 22, "bending_tests.weft.file: cannot read")},
-      {"MissingPatternFile", [](P d) { replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp}\nswatch: {length_mm: 100"); },
+      {"MissingPatternFile", [](P d) { add_pattern_line(d, "{file: tile.pyp}"); },
        expect_line("fabric.yaml", 14, "pattern.file: cannot read")},
       {"UnreadablePattern", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{file: tile.pyp}");
          write_file(d / "tile.pyp", "*pattern # px py radius n\n0.001 0.001 0.0001 2\n\n*Q\n0 0 0 0\n0.0005 0 0 0\n\n*E\n0 7 0 0\n1 0 1 0\n");
        },
        expect_line("fabric.yaml", 14, "pattern.file: unreadable pattern")},
       {"PatternProblemNamesTileLine", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{file: tile.pyp}");
          write_file(d / "tile.pyp", "*pattern # px py radius n\n0.001 0.001 0.0001 2\n\n*Q\n0 0 0 0\n0.0005 0 0 0\n\n*E\n0 7 0 0\n1 0 1 0\n");
        },
        expect_line("tile.pyp", 9, "*E v1")},
       {"BadWeftAxis", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp, weft_axis: z}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{file: tile.pyp, weft_axis: z}");
        },
        expect_line("fabric.yaml", 14, "pattern.weft_axis: expected x or y")},
       {"KnitUnknownChart", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100",
-                         "pattern: {knit: stockinet, stitch_length_mm: 11, yarn_radius_mm: 0.7}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{knit: stockinet, stitch_length_mm: 11, yarn_radius_mm: 0.7}");
        },
        expect_line("fabric.yaml", 14, "pattern.knit: unknown chart 'stockinet'")},
       {"KnitWithoutRadius", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {knit: seed, stitch_length_mm: 15}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{knit: seed, stitch_length_mm: 15}");
        },
        expect_line("fabric.yaml", 14, "pattern.yarn_radius_mm: missing required key")},
       {"KnitNegativeStitchLength", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100",
-                         "pattern: {knit: kp/pk, stitch_length_mm: -1, yarn_radius_mm: 1}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{knit: kp/pk, stitch_length_mm: -1, yarn_radius_mm: 1}");
        },
        expect_line("fabric.yaml", 14, "pattern.stitch_length_mm: must be positive")},
       {"KnitAndFile", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100",
-                         "pattern: {file: tile.pyp, knit: seed, stitch_length_mm: 15, yarn_radius_mm: 1}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{file: tile.pyp, knit: seed, stitch_length_mm: 15, yarn_radius_mm: 1}");
        },
        expect_line("fabric.yaml", 14, "pattern.knit: give either file")},
       {"StitchLengthWithoutKnit", [](P d) {
-         replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "pattern: {file: tile.pyp, stitch_length_mm: 15}\nswatch: {length_mm: 100");
+         add_pattern_line(d, "{file: tile.pyp, stitch_length_mm: 15}");
        },
        expect_line("fabric.yaml", 14, "pattern.stitch_length_mm: only with knit")},
       {"CsvMissingColumn", [](P d) { replace_in_file(d / "stretch_weft.csv", "stretch,force_N", "strech,force_N"); },
@@ -192,8 +189,7 @@ TEST(ValidateRecord, BaseRecordIsValid) {
 TEST(ValidateRecord, AKnitPatternIsReadWithoutATile) {
   ScratchDir dir("knit_pattern");
   write_base_fabric(dir / "K");
-  replace_in_file(dir / "K" / "fabric.yaml", "swatch: {length_mm: 100",
-                  "pattern: {knit: rib2x2, stitch_length_mm: 16.1, yarn_radius_mm: 1.18}\nswatch: {length_mm: 100");
+  add_pattern_line(dir / "K", "{knit: rib2x2, stitch_length_mm: 16.1, yarn_radius_mm: 1.18}");
   const auto load = yarnfit::db::load_fabric(dir / "K");
   ASSERT_TRUE(load.ok()) << load.problems.to_string();
   const auto& pattern = load.fabric->pattern;

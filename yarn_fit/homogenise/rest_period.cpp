@@ -17,9 +17,8 @@ Eigen::Matrix2d diagonal_strain(const Eigen::Vector2d& e) {
 
 }  // namespace
 
-RestPeriodResult relax_rest_period(YarnSystem& system, Eigen::VectorXd& g, const RestPeriodOptions& given) {
+RestPeriodResult relax_rest_period(YarnSystem& system, Eigen::VectorXd& g, const RestPeriodOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const RestPeriodOptions& options = given;
   RestPeriodResult out;
   const YarnTile base = system.tile();
   if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());
