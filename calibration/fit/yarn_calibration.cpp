@@ -409,6 +409,7 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"swarm", settings.swarm},
       {"linear_stretch", settings.linear_stretch},
       {"rest_shape", settings.rest_shape},
+      {"rest_period", settings.objective.rest_period},
       {"bending_points", settings.bending_points},
       {"profile_step", settings.profile_step},
       {"swarm_cutoff", settings.swarm_cutoff},

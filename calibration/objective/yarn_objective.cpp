@@ -74,6 +74,7 @@ std::string ObjectiveOptions::invalid_reason() const {
   if (!(min_compression_norm > 0.0)) return "min_compression_norm must be positive";
   if (!(compression_stress_fraction >= 0.0 && compression_stress_fraction < 0.1))
     return "compression_stress_fraction must be in [0, 0.1)";
+  if (rest_period && !(period_stress_fraction > 0.0)) return "period_stress_fraction must be positive";
   return {};
 }
 
@@ -104,6 +105,9 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
   // (g 2.7e-4 at the fit) where it had been 1.3 % off: the local step's stencil differences
   // see where each solve happened to stop. Solves end at the force or the loose tolerance.
   if (m_options.solve.stress_tolerance < 0.0) m_options.solve.stress_tolerance = 0.0;
+  if (m_options.rest_period) {
+    m_options.period.tolerance = Eigen::Vector2d::Constant(m_options.period_stress_fraction * smallest_norm);
+  }
 }
 
 void YarnObjective::set_samples(int samples) {
@@ -139,6 +143,11 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
     if (!out.rest.converged) {
       return finish("rest-shape heuristic did not converge: " + out.rest.last_solve.message);
     }
+  }
+  if (m_options.rest_period) {
+    out.period = yarn::relax_rest_period(relaxed, g_rest, m_options.period);
+    out.newton_iterations += out.period.newton_iterations;
+    if (!out.period.converged) return finish("rest period did not converge: " + out.period.message);
   }
 
   // One direction's term: its own copy of the relaxed system, so that directions can run

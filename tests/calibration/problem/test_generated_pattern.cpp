@@ -3,10 +3,12 @@
 // next time instead of generated again, and made into a yarn-fit problem whose bounds are
 // centred on the knit's yarn radius; a knit too short for its yarn is a problem naming the
 // record's pattern.knit, and a knit without its tile is refused by make_yarn_fit_problem.
+// Its candidates relax the period again (ObjectiveOptions::rest_period).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
+#include "calibration/objective/yarn_objective.hpp"
 #include "calibration/problem/generated_pattern.hpp"
 #include "calibration/problem/yarn_fit_problem.hpp"
 #include "tests/example_fabric.hpp"
@@ -73,6 +75,60 @@ TEST(GeneratedPattern, AFabricWithATileIsLeftAlone) {
   EXPECT_TRUE(make_generated_pattern(f, dir / "tiles", problems));
   EXPECT_EQ(f.pattern->file, before);
   EXPECT_FALSE(fs::exists(dir / "tiles"));
+}
+
+// Targets σ = k s with c = 0.3 s over 0–10 %, for the weft and the warp.
+std::vector<db::DirectionTargets> linear_targets(double k) {
+  std::vector<db::DirectionTargets> out;
+  for (const db::Direction d : {db::Direction::weft, db::Direction::warp}) {
+    db::DirectionTargets t{d, {}, {}};
+    for (const double s : {0.0, 0.05, 0.1}) t.stretch.push_back({s, 0.3 * s, k * s, true});
+    out.push_back(t);
+  }
+  return out;
+}
+
+// A candidate whose contact radius differs from the one the tile was generated with carries
+// coarse stress at s = 0 in the generated period; with the period relaxed per candidate it
+// starts from its own stress-free rest, as the targets do.
+TEST(GeneratedPattern, ACandidateStartsFromItsOwnStressFreeRest) {
+  ScratchDir dir("generated_pattern_rest");
+  db::Fabric f = knit_fabric("stockinette", 11.28, 0.74);
+  db::Problems problems;
+  ASSERT_TRUE(make_generated_pattern(f, dir / "tiles", problems)) << problems.to_string();
+  const auto problem = make_yarn_fit_problem(f, problems);
+  ASSERT_TRUE(problem) << problems.to_string();
+  ASSERT_TRUE(problem->generated_tile);
+  ObjectiveOptions relaxed = settings_for(*problem, {}).objective;
+  ASSERT_TRUE(relaxed.rest_period);
+  relaxed.samples = 2;
+  ObjectiveOptions fixed = relaxed;
+  fixed.rest_period = false;
+
+  // Near the default fit of the acrylic stockinette record: thinner contact, soft contact
+  // barrier, almost no soft stretch phase.
+  yarn::YarnParams params = yarn::default_params(problem->scales);
+  params.eps_s = 1.5e-4;
+  params.kb = 0.2 * problem->scales.kb_base();
+  params.r1 = 0.66 * problem->scales.r_est;
+  params.kc1 = 1e-2 * problem->scales.kc_base();
+  const double k = 300.0;  // N/m: stress norm 30 N/m, period tolerance 0.3 N/m
+  const auto with = YarnObjective(problem->tile, linear_targets(k), relaxed).evaluate(params);
+  const auto without = YarnObjective(problem->tile, linear_targets(k), fixed).evaluate(params);
+  ASSERT_TRUE(with.ok) << with.message;
+  ASSERT_TRUE(without.ok) << without.message;
+  EXPECT_TRUE(with.period.converged);
+  EXPECT_GT(with.period.solves, 0);
+  for (std::size_t d = 0; d < 2; ++d) {
+    SCOPED_TRACE(d == 0 ? "weft" : "warp");
+    const double norm = with.directions[d].scale.stress_norm;
+    std::cout << "[ rest     ] S(0) " << without.directions[d].stress_sim.front() << " N/m in the generated period, "
+              << with.directions[d].stress_sim.front() << " N/m relaxed (norm " << norm << " N/m)\n";
+    EXPECT_LE(std::abs(with.directions[d].stress_sim.front()), 2e-2 * norm);
+  }
+  EXPECT_GT(std::max(std::abs(without.directions[0].stress_sim.front()), std::abs(without.directions[1].stress_sim.front())),
+            5e-2 * with.directions[0].scale.stress_norm)
+      << "the generated period is not a rest state of this candidate: nothing to relax";
 }
 
 }  // namespace

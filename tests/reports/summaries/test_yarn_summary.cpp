@@ -76,6 +76,10 @@ TEST(YarnSummary, ErrorsPerDirectionInTheFitsOrder) {
   EXPECT_TRUE(contains(s, "  settings: 16 particles x 6 iterations, 5 samples per direction; local step implicit-filtering, "
                      "at most 40 evaluations, 12 samples per direction; seed 1; c* at every sample\n"))
       << s;
+  json generated = yarn_fit();
+  generated["settings"]["rest_period"] = true;
+  EXPECT_TRUE(contains(yarn_summary(generated), "seed 1; period relaxed per candidate (generated tile); c* at every sample\n"))
+      << yarn_summary(generated);
   // weft before warp (the curves' order), warp without a bending figure.
   const auto weft = s.find("    weft                 10 %         20 %          5 %       7 %\n");
   const auto warp = s.find("    warp                  1 %          2 %          3 %         -\n");
