@@ -26,7 +26,7 @@ struct YarnFitArgs {
   std::uint64_t seed = defaults.seed;
   int threads = 0;
   int compression_nodes = defaults.local_compression_nodes;
-  bool no_swarm = false, linear_stretch = false, no_rest_shape = false, resume = false, no_profile = false;
+  bool no_swarm = false, linear_stretch = false, no_rest_shape = false, relax_period = false, resume = false, no_profile = false;
   bool quiet = false, force = false;
   bool no_report = false;  // `fit` and `batch`: no report/ folder
   // `fit` and `batch`: the shell stage.

@@ -31,7 +31,6 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
   // rest pressed into each other, so its geometric R_est is smaller): the bounds are centred
   // on the radius it was made with, which the generation's parameters then lie inside.
   problem.scales = {*stiffness, fabric.pattern->knit ? fabric.pattern->knit->yarn_radius : fabric.pattern->facts.r_est};
-  problem.generated_tile = fabric.pattern->knit.has_value();
   const std::string pyp = fabric.pattern->file.string();
   try {
     problem.tile = yarn::make_yarn_tile(fabric.pattern->tile);
@@ -61,7 +60,6 @@ void read_start(YarnFitProblem& problem, const std::filesystem::path& file, bool
 }
 
 YarnFitSettings settings_for(const YarnFitProblem& problem, YarnFitSettings settings) {
-  if (problem.generated_tile) settings.objective.rest_period = true;
   if (problem.start) {
     settings.start = problem.start;
     settings.swarm = false;

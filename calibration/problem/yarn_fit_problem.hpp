@@ -35,9 +35,6 @@ struct YarnFitProblem {
   std::vector<db::DirectionTargets> targets;
   std::string targets_source;    // where the targets came from (yarn_fit.json's `targets`)
   std::optional<yarn::YarnParams> start;  // the local step's start; the swarm is then skipped
-  // The tile was generated from a knit chart: its period was relaxed at the generation's
-  // parameters only, so every candidate relaxes it again (ObjectiveOptions::rest_period).
-  bool generated_tile = false;
 };
 
 // The tile and scales of `fabric`: problems (added to `problems`) for a record without a
@@ -52,8 +49,7 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
 void read_start(YarnFitProblem& problem, const std::filesystem::path& file, bool linear_stretch,
                 db::Problems& problems);
 
-// The settings the fit runs with: with a start, the local step alone from it; on a
-// generated tile, the period relaxed per candidate.
+// The settings the fit runs with: with a start, the local step alone from it.
 YarnFitSettings settings_for(const YarnFitProblem& problem, YarnFitSettings settings);
 
 // Runs the calibration on the problem with settings_for(problem, settings) (calibration's

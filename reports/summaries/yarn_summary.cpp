@@ -95,7 +95,7 @@ std::string settings_line(const json& s) {
       << " evaluations, " << s.value("local_samples", 0) << " samples per direction; seed "
       << s.value("seed", std::uint64_t{0}) << (s.value("linear_stretch", false) ? "; linear stretch (ks1 = ks2, eps_s = 0)" : "")
       << (s.value("rest_shape", true) ? "" : "; no rest-shape heuristic")
-      << (s.value("rest_period", false) ? "; period relaxed per candidate (generated tile)" : "")
+      << (s.value("rest_period", false) ? "; period relaxed per candidate" : "")
       << (nodes == 0 ? std::string("; c* at every sample") : "; c* at " + std::to_string(nodes) + " samples, linear between")
       << "\n";
   return out.str();

@@ -349,7 +349,7 @@ TEST_F(FitCli, HelpListsTheOptions) {
   auto r = run_cli("yarn fit --help");
   ASSERT_EQ(r.exit_code, 0);
   for (const char* o : {"--targets", "--particles", "--iterations", "--samples", "--local-samples", "--local-evaluations",
-                        "--seed", "--threads", "--no-swarm", "--linear-stretch", "--no-rest-shape", "--checkpoint",
+                        "--seed", "--threads", "--no-swarm", "--linear-stretch", "--no-rest-shape", "--relax-period", "--checkpoint",
                         "--resume", "--quiet", "--force", "--local-method", "--start"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
   r = run_cli("fit --help");

@@ -78,7 +78,7 @@ TEST(YarnSummary, ErrorsPerDirectionInTheFitsOrder) {
       << s;
   json generated = yarn_fit();
   generated["settings"]["rest_period"] = true;
-  EXPECT_TRUE(contains(yarn_summary(generated), "seed 1; period relaxed per candidate (generated tile); c* at every sample\n"))
+  EXPECT_TRUE(contains(yarn_summary(generated), "seed 1; period relaxed per candidate; c* at every sample\n"))
       << yarn_summary(generated);
   // weft before warp (the curves' order), warp without a bending figure.
   const auto weft = s.find("    weft                 10 %         20 %          5 %       7 %\n");
