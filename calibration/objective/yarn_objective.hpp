@@ -81,8 +81,8 @@ struct ObjectiveOptions {
   // comfort-range errors went 28/25 → 20/17 %, but g rose on all three knits tried
   // (stockinette 0.34 → 0.53, garter 0.21 → 0.23, rib 0.31 → 0.39) and the garter's and the
   // rib's comfort errors grew; on those two the free compression at s = 0 already leaves
-  // |S(0)| ≤ 0.3 N/m. Candidates cost 1.3–1.8× as much. The period's tolerance is set to period_stress_fraction of the smallest comfort stress
-  // norm when the objective is built.
+  // |S(0)| ≤ 0.3 N/m. Candidates cost 1.3–1.8× as much. The period's tolerance is set to
+  // period_stress_fraction of the smallest comfort stress norm when the objective is built.
   bool rest_period = false;
   double period_stress_fraction = 1e-2;
   yarn::RestPeriodOptions period;
