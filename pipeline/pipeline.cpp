@@ -34,11 +34,9 @@ bool tile_to_generate(const db::Fabric& fabric) {
 
 // What can be checked of such a record before its tile exists.
 void check_generated_pattern(const db::Fabric& fabric, const PipelineOptions& options, db::Problems& problems) {
-  const std::string yaml = (fabric.folder / db::k_fabric_file_name).string();
   if (options.tile_cache.empty())
     problems.add("", 0, "tile_cache", "the pattern is a knit to generate: say where generated tiles are kept");
-  if (!fabric.stiffest_yarn_stiffness())
-    problems.add(yaml, 0, "yarns.stiffness_N", "missing; a yarn fit needs the stiffest yarn's stretch stiffness (sets ks2, SPEC §3)");
+  calibration::check_yarn_stiffness(fabric, problems);
 }
 
 PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Clock::time_point start) {

@@ -1,11 +1,11 @@
 #include "calibration/problem/generated_pattern.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "fabrics_db/records/fabric_reader.hpp"
+#include "fabrics_db/text_util.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 
 namespace yarnfit::calibration {
@@ -55,15 +55,7 @@ bool make_generated_pattern(db::Fabric& fabric, const fs::path& cache, db::Probl
   }
   fs::create_directories(cache, ec);
   db::write_pyp(generated.tile, file);
-  {
-    const fs::path facts = cache / (generated_tile_stem(knit) + ".json");
-    const fs::path temporary = facts.string() + ".partial";
-    std::ofstream out(temporary);
-    out << yarn::to_json(generated).dump(2) << "\n";
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + facts.string());
-    fs::rename(temporary, facts);
-  }
+  db::write_text_file_atomically(cache / (generated_tile_stem(knit) + ".json"), yarn::to_json(generated).dump(2) + "\n");
   pattern.file = file;
   pattern.tile = std::move(generated.tile);
   pattern.facts = db::compute_tile_facts(pattern.tile);

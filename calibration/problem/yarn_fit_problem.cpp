@@ -9,6 +9,13 @@
 
 namespace yarnfit::calibration {
 
+bool check_yarn_stiffness(const db::Fabric& fabric, db::Problems& problems) {
+  if (fabric.stiffest_yarn_stiffness()) return true;
+  problems.add((fabric.folder / db::k_fabric_file_name).string(), 0, "yarns.stiffness_N",
+               "missing; a yarn fit needs the stiffest yarn's stretch stiffness (sets ks2, SPEC §3)");
+  return false;
+}
+
 std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db::Problems& problems) {
   const std::size_t before = problems.size();
   const std::string yaml = (fabric.folder / db::k_fabric_file_name).string();
@@ -16,9 +23,7 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
   if (!fabric.pattern)
     problems.add(yaml, 0, "pattern",
                  "missing; a yarn fit needs the periodic yarn tile (pattern: {file: tile.pyp, weft_axis: x})");
-  if (!stiffness)
-    problems.add(yaml, 0, "yarns.stiffness_N",
-                 "missing; a yarn fit needs the stiffest yarn's stretch stiffness (sets ks2, SPEC §3)");
+  check_yarn_stiffness(fabric, problems);
   if (fabric.pattern && !fabric.pattern->has_tile())
     problems.add(yaml, 0, "pattern.knit",
                  "the tile of this knit is not made yet: yarnfit fit and batch generate it (or make it with yarnfit "

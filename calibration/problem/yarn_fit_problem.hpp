@@ -37,6 +37,10 @@ struct YarnFitProblem {
   std::optional<yarn::YarnParams> start;  // the local step's start; the swarm is then skipped
 };
 
+// Adds a problem naming yarns.stiffness_N when `fabric` has no yarn stiffness (ks2 comes from
+// it); true when it has one. Also checked before a knit's tile is generated.
+bool check_yarn_stiffness(const db::Fabric& fabric, db::Problems& problems);
+
 // The tile and scales of `fabric`: problems (added to `problems`) for a record without a
 // pattern or a yarn stiffness, a tile the simulation cannot use, or no R_est. The targets
 // are left empty. Empty result when anything is wrong.
