@@ -53,7 +53,16 @@ nlohmann::json fit_options_json(const pipeline::PipelineOptions& o) {
                {"local_initial_scale", y.local_initial_scale},
                {"local_min_scale", y.local_min_scale},
                {"bending_points", y.bending_points},
-               {"profile_step", y.profile_step}};
+               {"profile_step", y.profile_step},
+               {"global_method", calibration::to_string(y.global_method)},
+               {"staged",
+                {y.staged.contact.particles, y.staged.contact.iterations, y.staged.contact.samples,
+                 y.staged.all.particles, y.staged.all.iterations, y.staged.all.samples, y.staged.r1_window,
+                 y.staged.rescored, y.staged.distinct, y.staged.starts}},
+               {"alternation",
+                {y.alternation.max_rounds, y.alternation.iterations_per_round, y.alternation.initial_radius,
+                 y.alternation.secant_move, y.alternation.move_tolerance, y.alternation.failures_before_fallback}},
+               {"band_correction", y.objective.root_correction}};
   return j;
 }
 

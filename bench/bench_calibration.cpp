@@ -19,6 +19,8 @@
 //                               [--tile NAME|PATH]   (../shared/data/patterns/NAME.pyp, or a .pyp file;
 //                                                   default stockinette)
 #include <algorithm>
+#include <chrono>
+#include <random>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +29,7 @@
 #include <vector>
 
 #include "calibration/fit/yarn_calibration.hpp"
+#include "calibration/objective/jacobian_check.hpp"
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 
@@ -126,6 +129,11 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
                 d.compression_pct);
   if (!r.swarm.history.empty()) std::printf("    swarm: %s\n", r.swarm.brief_report().c_str());
   if (r.local.ran) std::printf("    local: %s\n", r.local.report.c_str());
+  for (const auto& round : r.local.alternation.rounds)
+    std::printf("      round %d: g %.4g -> %.4g held, %.4g on its own rest state (%s), move %.3g, %d iterations, %d "
+                "evaluations, %.0f s (%s)\n",
+                round.round, round.g_start, round.g_end, round.g_true, round.accepted ? "accepted" : "rejected",
+                round.move, round.iterations, round.evaluations, round.seconds, round.termination.c_str());
   if (!r.on_bound.empty()) {
     std::printf("    on a bound:");
     for (const auto& n : r.on_bound) std::printf(" %s", n.c_str());
@@ -191,11 +199,174 @@ calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s)
   return r;
 }
 
+// What a swarm candidate costs: `count` points of a Latin-hypercube-like spread over the box
+// (the contact stage's: R1 and kc1 random, the rest at the middle; then all five random),
+// each evaluated serially on `samples` samples: the rest state's share, the sweeps', Newton
+// iterations and solves.
+void print_candidate_costs(const Problem& p, const calibration::YarnFitSettings& base, int count) {
+  const swarm::ParameterSpace space = calibration::yarn_parameter_space(p.scales, false);
+  calibration::ObjectiveOptions o = base.objective;
+  o.samples = base.swarm_samples;
+  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const bool contact_only : {true, false}) {
+    double rest = 0.0, total = 0.0;
+    long iterations = 0, rest_iterations = 0, solves = 0;
+    int failed = 0;
+    for (int k = 0; k < count; ++k) {
+      Eigen::VectorXd u = Eigen::VectorXd::Constant(space.dimension(), 0.5);
+      for (int i = 0; i < space.dimension(); ++i)
+        if (!contact_only || i >= 3) u[i] = (k + unit(rng)) / count;
+      const yarn::YarnParams q = calibration::params_from_point(space.from_unit(u), p.scales, false);
+      const auto r = objective.evaluate(q);
+      total += r.seconds;
+      rest += r.rest.seconds;
+      iterations += r.newton_iterations;
+      rest_iterations += r.rest.newton_iterations;
+      solves += r.solves;
+      failed += r.ok ? 0 : 1;
+    }
+    std::printf("%s: %d candidates, %d samples: %.2f s each (rest shape %.2f s, %ld Newton iterations of %ld; "
+                "%ld sample solves), %d failed\n",
+                contact_only ? "contact stage (R1, kc1 random)" : "all five random", count, o.samples, total / count,
+                rest / count, rest_iterations / count, iterations / count, solves / count, failed);
+  }
+}
+
+// Spearman's rank correlation of two score lists (failed = worst).
+double rank_correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  const auto ranks = [](const std::vector<double>& v) {
+    std::vector<std::size_t> order(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return v[i] < v[j]; });
+    std::vector<double> r(v.size());
+    for (std::size_t k = 0; k < order.size(); ++k) r[order[k]] = static_cast<double>(k);
+    return r;
+  };
+  const std::vector<double> ra = ranks(a), rb = ranks(b);
+  const double n = static_cast<double>(a.size());
+  double d2 = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) d2 += (ra[i] - rb[i]) * (ra[i] - rb[i]);
+  return 1.0 - 6.0 * d2 / (n * (n * n - 1.0));
+}
+
+// How well cheaper objectives (fewer stretch samples, fewer rest-shape rounds) rank candidates
+// like the local step's (20 samples, 40 rounds) does: `count` candidates spread over the box with
+// R1 within ±5 % of the truth (what the staged search's second stage sees).
+void print_fidelity(const Problem& p, const calibration::YarnFitSettings& base, int count) {
+  const swarm::ParameterSpace space = calibration::yarn_parameter_space(p.scales, false);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<yarn::YarnParams> candidates;
+  for (int k = 0; k < count; ++k) {
+    Eigen::VectorXd u(space.dimension());
+    for (int i = 0; i < space.dimension(); ++i) u[i] = unit(rng);
+    Eigen::VectorXd x = space.from_unit(u);
+    x[3] = p.truth.r1 * (0.95 + 0.1 * unit(rng));
+    candidates.push_back(calibration::params_from_point(x, p.scales, false));
+  }
+  struct Fidelity {
+    int samples, rounds;
+  };
+  std::vector<std::vector<double>> scores;
+  std::vector<double> seconds;
+  const std::vector<Fidelity> table{{20, 40}, {7, 40}, {4, 40}, {3, 40}, {4, 12}, {3, 12}, {3, 6}};
+  for (const Fidelity& f : table) {
+    calibration::ObjectiveOptions o = base.objective;
+    o.samples = f.samples;
+    o.rest.rounds = f.rounds;
+    const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
+    std::vector<double> g(candidates.size());
+    const auto t0 = std::chrono::steady_clock::now();
+#pragma omp parallel for schedule(dynamic)
+    for (int k = 0; k < count; ++k) {
+      const auto r = objective.evaluate(candidates[static_cast<std::size_t>(k)]);
+      g[static_cast<std::size_t>(k)] = r.ok ? r.value : std::numeric_limits<double>::infinity();
+    }
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    scores.push_back(g);
+  }
+  std::printf("fidelity: %d candidates (R1 within 5 %% of the truth), rank correlation with 20 samples / 40 rest rounds\n",
+              count);
+  for (std::size_t f = 0; f < table.size(); ++f) {
+    // Where the reference's best three land in this fidelity's ranking.
+    std::vector<std::size_t> ref(candidates.size()), mine(candidates.size());
+    for (std::size_t i = 0; i < ref.size(); ++i) ref[i] = mine[i] = i;
+    std::stable_sort(ref.begin(), ref.end(), [&](auto i, auto j) { return scores[0][i] < scores[0][j]; });
+    std::stable_sort(mine.begin(), mine.end(), [&](auto i, auto j) { return scores[f][i] < scores[f][j]; });
+    int worst_rank = 0;
+    for (int t = 0; t < 3 && t < count; ++t)
+      worst_rank = std::max(worst_rank, static_cast<int>(std::find(mine.begin(), mine.end(), ref[t]) - mine.begin()));
+    std::printf("  %2d samples, %2d rounds: %5.1f s for all (%.2f core-s each), rank correlation %.3f, the "
+                "reference's best 3 within its best %d\n",
+                table[f].samples, table[f].rounds, seconds[f], 2.0 * seconds[f] / count,
+                rank_correlation(scores[0], scores[f]), worst_rank + 1);
+  }
+}
+
+// The residual Jacobian of the local objective at the truth's rest state against central
+// differences (issue 33: ≤ 1e-4 relative in smooth cases): tight solves and a narrow band.
+void print_jacobian_check(const Problem& p, const calibration::YarnFitSettings& base) {
+  calibration::ObjectiveOptions o = base.objective;
+  o.samples = base.local_samples;
+  o.compression_stress_fraction = 1e-8;
+  o.compression.tolerance = 1e-10;
+  o.solve.force_tolerance = 1e-12 * p.scales.ks2;
+  o.solve.stress_tolerance = 0.0;
+  o.solve.max_iterations = 1000;
+  o.solve.loose_tolerance = 1e-300;  // (0 would mean the objective's default: loose solves after 60 iterations)
+  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
+  const calibration::RestState rest = objective.rest_state(p.truth);
+  if (!rest.ok) throw std::runtime_error("rest state: " + rest.message);
+  const std::vector<yarn::YarnParam> wanted{yarn::YarnParam::ks1, yarn::YarnParam::eps_s, yarn::YarnParam::kb,
+                                            yarn::YarnParam::r1, yarn::YarnParam::kc1};
+  calibration::AtRestOptions with_jacobian;
+  with_jacobian.wanted = wanted;
+  with_jacobian.record_states = true;
+  const calibration::ObjectiveResult timed = objective.evaluate_at_rest(rest, p.truth, with_jacobian);
+  std::vector<calibration::SweepStates> states;
+  for (const auto& d : timed.directions) states.push_back(d.states);
+  calibration::AtRestOptions warm;
+  warm.warm = &states;
+  const calibration::ObjectiveResult plain = objective.evaluate_at_rest(rest, p.truth);
+  std::printf("jacobian check at the truth (%d samples per direction, tight solves): one evaluation %.2f s with the "
+              "Jacobian, %.2f s without; %d compressions held\n",
+              o.samples, timed.seconds, plain.seconds, timed.held_compressions);
+  if (std::getenv("YARNFIT_JACOBIAN_DEBUG") != nullptr) {
+    const Eigen::MatrixXd j = calibration::residual_jacobian(timed);
+    for (std::size_t k = 0; k < wanted.size(); ++k) {
+      const double theta = yarn::get(p.truth, wanted[k]);
+      yarn::YarnParams plus = p.truth, minus = p.truth;
+      yarn::set(plus, wanted[k], theta * 1.001);
+      yarn::set(minus, wanted[k], theta * 0.999);
+      const auto rp = objective.evaluate_at_rest(rest, plus, warm), rm = objective.evaluate_at_rest(rest, minus, warm);
+      const Eigen::VectorXd fd = (calibration::residual_vector(rp) - calibration::residual_vector(rm)) / 0.002;
+      std::printf("%s\n", yarn::to_string(wanted[k]));
+      Eigen::Index row = 0;
+      for (const auto& d : timed.directions)
+        for (std::size_t i = 0; i < d.stretch.size(); ++i)
+          for (int q = 0; q < 2; ++q, ++row)
+            std::printf("  %s s %.3f %s  analytic %+.5e  fd %+.5e  c %.6f\n", std::string(db::to_string(d.scale.direction)).c_str(),
+                        d.stretch[i], q == 0 ? "S" : "c", j(row, static_cast<Eigen::Index>(k)) * theta, fd[row],
+                        d.compression_sim[i]);
+    }
+  }
+  const calibration::JacobianCheck c = calibration::check_residual_jacobian(objective, rest, p.truth, wanted);
+  if (!c.ok) throw std::runtime_error("jacobian check: " + c.message);
+  std::printf("  %-6s %14s %12s %10s\n", "param", "|dr/dlog p|", "rel. error", "best step");
+  for (const auto& col : c.columns)
+    std::printf("  %-6s %14.4g %12.3g %10.0e\n", yarn::to_string(col.param), col.column_norm, col.relative_error,
+                col.step);
+  std::printf("  worst %.3g (goal <= 1e-4: %s), %d evaluations, %.0f s\n", c.worst, c.worst <= 1e-4 ? "met" : "MISSED",
+              c.evaluations, c.seconds);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_calibration profile|recovery|ablations|settings [options]\n");
+    std::fprintf(stderr, "usage: bench_calibration profile|recovery|jacobian|ablations|settings [options]\n");
     return 2;
   }
   const std::string mode = argv[1];
@@ -206,6 +377,8 @@ int main(int argc, char** argv) {
   std::string truth = "toe";
   std::string tile = "stockinette";
   double max_stretch = 0.3;
+  double start_offset = 0.0;  // > 0: no swarm; the local step starts off the truth by this factor
+  int candidate_count = 16;   // `candidates` mode
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     const char* value = argv[i + 1];
@@ -213,6 +386,11 @@ int main(int argc, char** argv) {
     else if (key == "--iterations") base.iterations = std::atoi(value);
     else if (key == "--samples") base.swarm_samples = std::atoi(value);
     else if (key == "--local-evaluations") base.local_evaluations = std::atoi(value);
+    else if (key == "--local-samples") base.local_samples = std::atoi(value);
+    else if (key == "--start-offset") start_offset = std::atof(value);
+    else if (key == "--candidates") candidate_count = std::atoi(value);
+    else if (key == "--accept-bands") base.objective.accept_bands = std::atof(value);
+    else if (key == "--rest-rounds") base.objective.rest.rounds = std::atoi(value);
     else if (key == "--local-method") {
       const auto m = calibration::local_method_from_string(value);
       if (!m) {
@@ -250,6 +428,19 @@ int main(int argc, char** argv) {
       truth_row.params = p.truth;
       truth_row.final = at_truth;
       print_fit("true parameters", p, truth_row, false);
+      if (std::getenv("YARNFIT_TRUTH_DEBUG") != nullptr) {
+        calibration::ObjectiveOptions off = lo;
+        off.root_correction = false;
+        const auto plain = calibration::YarnObjective(yarn::make_yarn_tile(p.tile), p.targets, off).evaluate(p.truth);
+        for (std::size_t d = 0; d < at_truth.directions.size(); ++d) {
+          const auto& a = at_truth.directions[d];
+          const auto& b = plain.directions[d];
+          for (std::size_t i = 0; i < a.stretch.size(); ++i)
+            std::printf("  %s s %.4f  c target %.5f corrected %.5f accepted %.5f   S target %.4f corrected %.4f accepted %.4f\n",
+                        std::string(db::to_string(a.scale.direction)).c_str(), a.stretch[i], a.compression_target[i],
+                        a.compression_sim[i], b.compression_sim[i], a.stress_target[i], a.stress_sim[i], b.stress_sim[i]);
+        }
+      }
       // Identifiability from stretch data alone: g of the local step's objective with one
       // parameter 10 % off the truth, the others true. A parameter the data pin raises g well
       // above g(truth); one they do not leave it near g(truth).
@@ -273,10 +464,30 @@ int main(int argc, char** argv) {
       }
       std::fflush(stdout);
       if (mode == "recovery") {
-        const calibration::YarnFitResult r = run(p, base);
+        calibration::YarnFitSettings s = base;
+        if (start_offset > 0.0) {
+          // ks1, kb, kc1 × (1 + f), ε̄s and R1 ÷ (1 + f), R1's offset a tenth as large (its basin is narrow).
+          yarn::YarnParams q = p.truth;
+          q.ks1 *= 1.0 + start_offset;
+          q.eps_s /= 1.0 + start_offset;
+          q.kb *= 1.0 + start_offset;
+          q.r1 /= 1.0 + 0.1 * start_offset;
+          q.kc1 *= 1.0 + start_offset;
+          s.swarm = false;
+          s.start = q;
+          std::printf("local step alone from the truth off by %.0f %% (R1 by %.1f %%)\n", 100 * start_offset,
+                      10 * start_offset);
+        }
+        const calibration::YarnFitResult r = run(p, s);
         print_fit("recovery", p, r, true);
         print_recovery_goals(p, r, base.threads);
       }
+    } else if (mode == "fidelity") {
+      print_fidelity(p, base, candidate_count);
+    } else if (mode == "candidates") {
+      print_candidate_costs(p, base, candidate_count);
+    } else if (mode == "jacobian") {
+      print_jacobian_check(p, base);
     } else if (mode == "ablations") {
       print_fit("full method", p, run(p, base), true);
       calibration::YarnFitSettings s = base;

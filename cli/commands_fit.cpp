@@ -164,15 +164,17 @@ void add_yarn_fit_options(CLI::App& cmd, YarnFitArgs& a) {
 void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code) {
   auto yargs = std::make_shared<YarnFitArgs>();
   auto* y = yarn.add_subcommand(
-      "fit", "Fit the yarn parameters {ks1, eps_s, kb, R1, kc1} to uniform targets (swarm, then a local step by "
-             "implicit filtering or COBYLA; rest-shape heuristic per candidate); writes DIR/yarn_fit.json, "
-             "yarn_curves.csv and yarn_summary.txt");
+      "fit", "Fit the yarn parameters {ks1, eps_s, kb, R1, kc1} to uniform targets (a staged global search, "
+             "then Gauss-Newton on exact Jacobians alternating with the rest-shape heuristic; --budget names the "
+             "search's size); writes DIR/yarn_fit.json, yarn_curves.csv and yarn_summary.txt");
   add_yarn_fit_options(*y, *yargs);
   y->add_option("--targets", yargs->targets, "uniform_targets.csv (as `shell fit` or `synth yarn` write it)")
       ->required();
-  auto* checkpoint = y->add_option("--checkpoint", yargs->checkpoint, "Swarm checkpoint file, written every iteration");
-  y->add_flag("--resume", yargs->resume, "Continue the swarm from --checkpoint with its particles and iterations (give the same --samples); "
-              "output files may exist")
+  auto* checkpoint = y->add_option("--checkpoint", yargs->checkpoint,
+                                   "Fit checkpoint file (its swarm stages write FILE.<stage> beside it), written after "
+                                   "every swarm iteration and local run");
+  y->add_flag("--resume", yargs->resume, "Continue from --checkpoint (give the same settings: each swarm stage goes "
+                                         "on with its stored particles); output files may exist")
       ->needs(checkpoint);
   y->callback([yargs, &exit_code] { exit_code = run_yarn_fit(*yargs); });
 

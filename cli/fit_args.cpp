@@ -1,16 +1,25 @@
 #include "cli/fit_args.hpp"
 
+#include "calibration/fit/budget.hpp"
+
 namespace yarnfit::cli {
 
 calibration::YarnFitSettings settings_from(const YarnFitArgs& a, db::Problems& problems) {
   calibration::YarnFitSettings s;
-  s.particles = a.particles;
-  s.iterations = a.iterations;
-  s.swarm_samples = a.samples;
-  s.local_samples = a.local_samples;
-  s.local_evaluations = a.local_evaluations;
+  if (const auto global = calibration::global_method_from_string(a.global_method)) s.global_method = *global;
+  else problems.add("", 0, "--global", a.global_method + ": not a global method (staged or swarm)");
+  if (const auto budget = calibration::budget_from_string(a.budget)) calibration::apply_budget(*budget, s);
+  else problems.add("", 0, "--budget", a.budget + ": not a budget (quick, default or thorough)");
+  if (a.particles) s.particles = *a.particles;
+  if (a.iterations) s.iterations = *a.iterations;
+  if (a.samples) s.swarm_samples = *a.samples;
+  if (a.local_samples) s.local_samples = *a.local_samples;
+  if (a.local_evaluations) s.local_evaluations = *a.local_evaluations;
+  if (a.starts) s.staged.starts = *a.starts;
   if (const auto method = calibration::local_method_from_string(a.local_method)) s.local_method = *method;
-  else problems.add("", 0, "--local-method", a.local_method + ": not a local method (implicit-filtering or cobyla)");
+  else
+    problems.add("", 0, "--local",
+                 a.local_method + ": not a local method (gauss-newton, implicit-filtering or cobyla)");
   s.seed = a.seed;
   s.threads = a.threads;
   s.swarm = !a.no_swarm && a.start.empty();
@@ -51,18 +60,39 @@ shell::InplaneModel shell_model_from(const std::string& name, db::Problems& prob
 void add_fit_setting_options(CLI::App& cmd, YarnFitArgs& a) {
   // Values are checked by the libraries (YarnFitSettings::problems and the options of the
   // shell stage), so that one run names every invalid option, not only the first.
-  cmd.add_option("--particles", a.particles, "Swarm particles (at least 2)")->capture_default_str();
-  cmd.add_option("--iterations", a.iterations, "Swarm iterations (at least 1)")->capture_default_str();
-  cmd.add_option("--samples", a.samples, "Stretch samples per direction in the swarm (at least 2)")
+  cmd.add_option("--budget", a.budget,
+                 "Named search settings: quick, default or thorough (the options below override them; "
+                 "bench_calibration and the report's 'What accuracy costs' show what each costs and reaches)")
       ->capture_default_str();
-  cmd.add_option("--local-samples", a.local_samples, "Stretch samples per direction in the local step (at least 2)")
+  cmd.add_option("--global", a.global_method,
+                 "Global step: staged (R1 and kc1 first on few samples, then every parameter near that R1, the "
+                 "best distinct candidates rescored on the local samples) or swarm (the thesis's: --particles x "
+                 "--iterations on --samples)")
       ->capture_default_str();
-  cmd.add_option("--local-evaluations", a.local_evaluations, "The local step's budget of objective evaluations")
-      ->capture_default_str();
-  cmd.add_option("--local-method", a.local_method,
-                 "Local step: implicit-filtering (Gauss-Newton steps on stencil differences whose scale shrinks "
-                 "from 2 % to 0.5 % of every range; robust to the objective's small-scale roughness) or cobyla "
-                 "(the thesis's choice)")
+  const calibration::YarnFitSettings d = [] {
+    calibration::YarnFitSettings s;
+    calibration::apply_budget(calibration::Budget::standard, s);
+    return s;
+  }();
+  cmd.add_option("--particles", a.particles, "Swarm particles of --global swarm (default " +
+                                                 std::to_string(d.particles) + ")");
+  cmd.add_option("--iterations", a.iterations, "Swarm iterations of --global swarm (default " +
+                                                   std::to_string(d.iterations) + ")");
+  cmd.add_option("--samples", a.samples, "Stretch samples per direction in --global swarm (default " +
+                                             std::to_string(d.swarm_samples) + ")");
+  cmd.add_option("--local-samples", a.local_samples,
+                 "Stretch samples per direction in the local step, the rescore and the final evaluation (default " +
+                     std::to_string(d.local_samples) + ")");
+  cmd.add_option("--starts", a.starts,
+                 "Local runs of --global staged, from its best distinct candidates (default " +
+                     std::to_string(d.staged.starts) + ")");
+  cmd.add_option("--local-evaluations", a.local_evaluations,
+                 "Budget of objective evaluations of --local implicit-filtering or cobyla, and of the Gauss-Newton "
+                 "step's fallback (default " + std::to_string(d.local_evaluations) + ")");
+  cmd.add_option("--local,--local-method", a.local_method,
+                 "Local step: gauss-newton (the rest state held within rounds, Gauss-Newton on exact Jacobians, "
+                 "relaxed again between rounds), implicit-filtering (Gauss-Newton on stencil differences) or "
+                 "cobyla (the thesis's choice)")
       ->capture_default_str();
   cmd.add_option("--seed", a.seed, "Swarm seed (same seed, same result whatever --threads)")->capture_default_str();
   cmd.add_option("--compression-nodes", a.compression_nodes,

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "calibration/fit/yarn_calibration.hpp"
@@ -17,11 +18,10 @@ namespace yarnfit::cli {
 struct YarnFitArgs {
   std::string fabric, targets, out, checkpoint, start;
   calibration::YarnFitSettings defaults;
-  int particles = defaults.particles;
-  int iterations = defaults.iterations;
-  int samples = defaults.swarm_samples;
-  int local_samples = defaults.local_samples;
-  int local_evaluations = defaults.local_evaluations;
+  // The budget's settings first (budget.hpp), then every detailed option given.
+  std::string budget = "default";
+  std::string global_method = calibration::to_string(defaults.global_method);
+  std::optional<int> particles, iterations, samples, local_samples, local_evaluations, starts;
   std::string local_method = calibration::to_string(defaults.local_method);
   std::uint64_t seed = defaults.seed;
   int threads = 0;

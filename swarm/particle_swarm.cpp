@@ -221,6 +221,13 @@ SwarmSummary continue_run(detail::SwarmState st, const ParameterSpace& space, co
       }
     }
   }
+  st.summary.particle_best_points.clear();
+  st.summary.particle_best_values.clear();
+  for (Eigen::Index i = 0; i < st.best_value.size(); ++i) {
+    const bool found = std::isfinite(st.best_value[i]);
+    st.summary.particle_best_points.push_back(found ? space.from_unit(st.best_position.col(i)) : Eigen::VectorXd());
+    st.summary.particle_best_values.push_back(st.best_value[i]);
+  }
   return st.summary;
 }
 

@@ -140,6 +140,10 @@ struct SwarmSummary {
   int best_iteration = 0;  // where best_point was evaluated
   int best_particle = -1;
   std::vector<IterationRecord> history;
+  // Each particle's best position (caller's coordinates) and value (+inf while it has none): the
+  // distinct good points a multi-start search goes on from. Restored with the run on resume.
+  std::vector<Eigen::VectorXd> particle_best_points;
+  std::vector<double> particle_best_values;
   int evaluations = 0;
   int failed = 0;
   std::vector<FailedEvaluation> failures;  // the first max_failures_kept failures

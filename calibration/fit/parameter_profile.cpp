@@ -113,9 +113,37 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
   return out;
 }
 
+ParameterProfile profile_from_jacobian(const swarm::ParameterSpace& space, const Eigen::VectorXd& x_fit,
+                                       const Eigen::VectorXd& residuals, const Eigen::MatrixXd& jacobian_log,
+                                       double step) {
+  if (!(step > 0.0 && step < 1.0)) throw std::invalid_argument("parameter profile: step must be in (0, 1)");
+  if (jacobian_log.cols() != space.dimension() || jacobian_log.rows() != residuals.size())
+    throw std::invalid_argument("parameter profile: the Jacobian does not match the space and the residuals");
+  ParameterProfile out;
+  out.from_jacobian = true;
+  out.step = step;
+  out.g_fit = residuals.squaredNorm();
+  const double log_step = std::log(1.0 + step);
+  const std::vector<GaussNewtonRange> ranges =
+      gauss_newton_ranges(jacobian_log.transpose() * jacobian_log, out.g_fit);
+  for (int i = 0; i < space.dimension(); ++i) {
+    ParameterProfileEntry e;
+    e.name = space.parameter(i).name;
+    e.value = x_fit[i];
+    e.g_lower = (residuals - log_step * jacobian_log.col(i)).squaredNorm();
+    e.g_upper = (residuals + log_step * jacobian_log.col(i)).squaredNorm();
+    e.range_factor = ranges[static_cast<std::size_t>(i)].refitted;
+    e.range_alone_factor = ranges[static_cast<std::size_t>(i)].alone;
+    out.entries.push_back(std::move(e));
+  }
+  out.computed = true;
+  return out;
+}
+
 nlohmann::json to_json(const ParameterProfile& p) {
   nlohmann::json j;
   j["computed"] = p.computed;
+  j["from"] = p.from_jacobian ? "jacobian" : "evaluations";
   if (!p.message.empty()) j["message"] = p.message;
   j["step"] = p.step;
   j["objective"] = number_or_null(p.g_fit);

@@ -44,6 +44,10 @@ struct ParameterProfileEntry {
 
 struct ParameterProfile {
   bool computed = false;
+  // The ranges from the local step's exact Jacobian at the fit and the one-at-a-time g values
+  // predicted by its Gauss–Newton model (profile_from_jacobian: no evaluations), rather than
+  // from evaluations at ±step (profile_parameters).
+  bool from_jacobian = false;
   std::string message;  // why some entries are incomplete (a side failed), or why none were computed
   double step = 0.0;
   double g_fit = 0.0;
@@ -69,6 +73,14 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
                                     const Eigen::VectorXd& x_fit, const ObjectiveResult& at_fit,
                                     const std::function<yarn::YarnParams(const Eigen::VectorXd&)>& to_params,
                                     double step, int threads);
+
+// The same from the residuals r at the fit and their Jacobian J in log θ (one column per
+// coordinate of the space), e.g. the Gauss–Newton local step's own: JᵀJ gives the ranges, and
+// |r + J δ|² with δ = ∓log(1 + step) in one column the one-at-a-time g values (a model, not
+// evaluations: exact for residuals linear in log θ).
+ParameterProfile profile_from_jacobian(const swarm::ParameterSpace& space, const Eigen::VectorXd& x_fit,
+                                       const Eigen::VectorXd& residuals, const Eigen::MatrixXd& jacobian_log,
+                                       double step);
 
 nlohmann::json to_json(const ParameterProfile& profile);
 

@@ -7,8 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <stdexcept>
 
+#include "calibration/fit/fit_checkpoint.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
 #include "reports/metrics/error_metrics.hpp"
@@ -22,19 +25,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// What both local optimisers' summaries have in common.
-template <class Summary>
-void take_summary(const Summary& r, LocalStepSummary& out) {
-  out.status = r.message;
-  out.best_value = r.best_value;
-  out.start_value = r.start_value;
-  out.evaluations = r.evaluations;
-  out.failed = r.failed;
-  out.failures = r.failures;
-  out.seconds = r.seconds;
-  out.report = r.brief_report();
 }
 
 // A progress event of the fit: the best objective of the stage, its planned steps (the local
@@ -60,20 +50,6 @@ void set_compression_nodes(ObjectiveOptions& o, int nodes, int samples) {
 }
 
 }  // namespace
-
-const char* to_string(LocalMethod method) {
-  switch (method) {
-    case LocalMethod::implicit_filtering: return "implicit-filtering";
-    case LocalMethod::cobyla: return "cobyla";
-  }
-  return "unknown";
-}
-
-std::optional<LocalMethod> local_method_from_string(std::string_view name) {
-  for (const LocalMethod m : {LocalMethod::implicit_filtering, LocalMethod::cobyla})
-    if (name == to_string(m)) return m;
-  return std::nullopt;
-}
 
 db::Problems YarnFitSettings::problems() const {
   db::Problems out;
@@ -101,6 +77,8 @@ db::Problems YarnFitSettings::problems() const {
     say("bending_points", "must be 0 (no check) or at least 2" + got(bending_points));
   if (!(profile_step >= 0.0 && profile_step < 1.0)) say("profile_step", "must be in [0, 1) (0: no profile)" + got(profile_step));
   if (resume && checkpoint.empty()) say("resume", "needs a checkpoint file");
+  if (const std::string why = staged.invalid_reason(); !why.empty()) say("staged", why);
+  if (const std::string why = alternation.invalid_reason(); !why.empty()) say("alternation", why);
   return out;
 }
 
@@ -156,165 +134,237 @@ Eigen::VectorXd point_from_params(const yarn::YarnParams& p, bool linear_stretch
   return x;
 }
 
+namespace {
+
+// One fit: its search space, the objectives it evaluates (one per number of stretch samples, built
+// before any work so that parallel stages only read them) and its checkpoint.
+class FitRun {
+ public:
+  FitRun(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
+         const yarn::ParameterScales& scales, const YarnFitSettings& settings)
+      : m_scales(scales), m_s(settings), m_space(yarn_parameter_space(scales, settings.linear_stretch)),
+        m_start(Clock::now()) {
+    const int rounds = settings.objective.rest.rounds;
+    for (const auto& [samples, rest_rounds] :
+         {std::pair{settings.swarm_samples, rounds}, std::pair{settings.local_samples, rounds},
+          std::pair{settings.staged.contact.samples, settings.staged.contact.rest_rounds},
+          std::pair{settings.staged.all.samples, settings.staged.all.rest_rounds}}) {
+      const auto key = std::pair{samples, rest_rounds > 0 ? rest_rounds : rounds};
+      if (m_objectives.find(key) == m_objectives.end())
+        m_objectives.emplace(key, std::make_unique<YarnObjective>(tile, targets, objective_options(key.first, key.second)));
+    }
+    if (settings.resume && std::filesystem::exists(settings.checkpoint))
+      m_checkpoint = read_fit_checkpoint(settings.checkpoint);
+  }
+
+  [[nodiscard]] const swarm::ParameterSpace& space() const { return m_space; }
+  [[nodiscard]] const YarnObjective& objective(int samples, int rest_rounds = 0) const {
+    return *m_objectives.at({samples, rest_rounds > 0 ? rest_rounds : m_s.objective.rest.rounds});
+  }
+  [[nodiscard]] yarn::YarnParams params(const Eigen::VectorXd& x) const {
+    return params_from_point(x, m_scales, m_s.linear_stretch);
+  }
+  [[nodiscard]] double elapsed() const { return seconds_since(m_start); }
+  [[nodiscard]] bool keep_going() const { return !m_s.keep_going || m_s.keep_going(); }
+
+  // The local step's starts: the global step's, or the one the settings give.
+  GlobalSearchResult global_step(YarnFitResult& out) {
+    if (!m_s.swarm) {
+      GlobalSearchResult none;
+      none.ok = true;
+      none.starts.push_back({start_without_search(), kInf});
+      return none;
+    }
+    GlobalSearchInput in;
+    in.space = &m_space;
+    in.to_params = [this](const Eigen::VectorXd& x) { return params(x); };
+    in.objective = [this](int samples, int rounds) -> const YarnObjective& { return objective(samples, rounds); };
+    in.local_samples = m_s.local_samples;
+    in.seed = m_s.seed;
+    in.threads = m_s.threads;
+    in.cutoff = m_s.swarm_cutoff;
+    in.checkpoint = m_s.checkpoint;
+    in.resume = m_s.resume;
+    in.progress = m_s.progress;
+    in.elapsed = [this] { return elapsed(); };
+    in.keep_going = [this] { return keep_going(); };
+    in.rescored = m_checkpoint.rescored;
+    in.on_rescored = [this](const std::vector<GlobalCandidate>& c) {
+      m_checkpoint.rescored = c;
+      save();
+    };
+    GlobalSearchResult g = m_s.global_method == GlobalMethod::staged
+                               ? run_staged_search(in, m_s.staged)
+                               : run_swarm_search(in, {m_s.particles, m_s.iterations, m_s.swarm_samples,
+                                                       m_s.objective.rest.rounds});
+    out.global = g.stages;
+    for (const auto& stage : g.stages) {
+      if (stage.swarm.history.empty()) continue;
+      out.swarm = stage.swarm;
+      out.swarm_stopped += stage.stopped;
+    }
+    out.evaluations += g.evaluations;
+    out.seconds_swarm = g.seconds;
+    return g;
+  }
+
+  // Local runs from the starts (in parallel, each one's result kept in the checkpoint), and the
+  // best of them. False when the fit was asked to stop before they all ran.
+  bool local_step(const std::vector<GlobalCandidate>& starts, YarnFitResult& out) {
+    const int n = m_s.local_evaluations > 0 ? static_cast<int>(starts.size()) : 0;
+    m_checkpoint.local.resize(static_cast<std::size_t>(n));
+    out.local_runs.assign(static_cast<std::size_t>(n), LocalStepSummary{});
+    std::vector<char> ran(static_cast<std::size_t>(n), 0);
+    if (m_s.threads > 0) omp_set_num_threads(m_s.threads);
+    const auto t0 = Clock::now();
+#pragma omp parallel for schedule(dynamic) if (n > 1)
+    for (int i = 0; i < n; ++i) {
+      if (!keep_going()) continue;
+      out.local_runs[static_cast<std::size_t>(i)] = local_run(i, starts[static_cast<std::size_t>(i)].point);
+      ran[static_cast<std::size_t>(i)] = 1;
+    }
+    out.seconds_local = seconds_since(t0);
+    if (std::find(ran.begin(), ran.end(), 0) != ran.end()) return false;
+    for (const auto& r : out.local_runs) {
+      out.evaluations += r.evaluations;
+      if (r.usable() && (!out.local.ran || r.best_value < out.local.best_value)) out.local = r;
+    }
+    return true;
+  }
+
+  [[nodiscard]] Eigen::VectorXd start_without_search() const {
+    if (!m_s.start) return m_space.from_unit(Eigen::VectorXd::Constant(m_space.dimension(), 0.5));
+    return point_from_params(*m_s.start, m_s.linear_stretch);
+  }
+
+ private:
+  ObjectiveOptions objective_options(int samples, int rest_rounds) const {
+    ObjectiveOptions o = m_s.objective;
+    o.rest_shape = m_s.rest_shape;
+    o.samples = samples;
+    o.rest.rounds = rest_rounds;
+    // The band read to first order belongs to the Gauss–Newton step (sensitivity.hpp); the other
+    // local steps, the thesis's COBYLA among them, keep the objective they were made with.
+    o.root_correction = m_s.objective.root_correction && m_s.local_method == LocalMethod::gauss_newton;
+    const bool local = samples == m_s.local_samples;
+    set_compression_nodes(o, local ? m_s.local_compression_nodes : m_s.swarm_compression_nodes, samples);
+    return o;
+  }
+
+  LocalStepSummary local_run(int i, const Eigen::VectorXd& start) {
+    const auto k = static_cast<std::size_t>(i);
+    if (m_checkpoint.local[k] && m_s.local_method == LocalMethod::gauss_newton) {
+      LocalStepSummary done;  // finished before a resume
+      done.ran = true;
+      done.start_point = start;
+      done.alternation = *m_checkpoint.local[k];
+      take_alternation(done);
+      return done;
+    }
+    LocalStepSettings ls;
+    ls.method = m_s.local_method;
+    ls.alternation = m_s.alternation;
+    ls.evaluations = m_s.local_evaluations;
+    ls.cobyla_initial_step = m_s.local_initial_step;
+    ls.initial_scale = m_s.local_initial_scale;
+    ls.min_scale = m_s.local_min_scale;
+    ls.threads = m_s.threads;
+    const LocalStepSummary r = run_local_step(
+        objective(m_s.local_samples), m_space, [this](const Eigen::VectorXd& x) { return params(x); }, start, ls,
+        [&](int evaluations, double best) { report_local(i, evaluations, best); });
+    if (r.method == LocalMethod::gauss_newton) {
+#pragma omp critical(yarn_fit_checkpoint)
+      {
+        m_checkpoint.local[k] = r.alternation;
+        save();
+      }
+    }
+    return r;
+  }
+
+  void report_local(int run, int evaluations, double best) const {
+    if (!m_s.progress) return;
+    const std::string stage = "local " + std::to_string(run + 1);
+    m_s.progress(fit_progress(stage.c_str(), "evaluation", evaluations, m_s.local_evaluations, true, best, elapsed()));
+  }
+
+  void save() const {
+    if (!m_s.checkpoint.empty()) write_fit_checkpoint(m_s.checkpoint, m_checkpoint);
+  }
+
+  yarn::ParameterScales m_scales;
+  const YarnFitSettings& m_s;
+  swarm::ParameterSpace m_space;
+  std::map<std::pair<int, int>, std::unique_ptr<YarnObjective>> m_objectives;  // by (samples, rest rounds)
+  FitCheckpoint m_checkpoint;
+  Clock::time_point m_start;
+};
+
+// The fitted point's final evaluation on the local samples and the checks after it.
+void finish_fit(const FitRun& run, const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
+                const YarnFitSettings& settings, const Eigen::VectorXd& best, YarnFitResult& out) {
+  const YarnObjective& fine = run.objective(settings.local_samples);
+  out.params = run.params(best);
+  out.final = fine.evaluate(out.params);
+  out.effects = out.final.effects;
+  ++out.evaluations;
+  const Eigen::VectorXd u = run.space().to_unit(best);
+  for (int i = 0; i < run.space().dimension(); ++i)
+    if (u[i] < 1e-3 || u[i] > 1.0 - 1e-3) out.on_bound.push_back(run.space().parameter(i).name);
+  out.ok = out.final.ok;
+  if (!out.ok) {
+    out.message = "the best parameters failed on re-evaluation: " + out.final.message;
+    out.final.directions.clear();  // the directions run before the failure: not the fit's errors
+    return;
+  }
+  if (settings.bending_points > 0) {
+    out.bending = check_bending(tile, targets, out.params, fine.options(), settings.bending_points);
+    numerics::merge_effects(out.effects, out.bending.effects);
+  }
+  if (settings.profile_step <= 0.0) return;
+  const AlternationSummary& a = out.local.alternation;
+  if (a.jacobian_log.size() > 0 && a.residuals.size() > 0) {
+    out.profile = profile_from_jacobian(run.space(), best, a.residuals, a.jacobian_log, settings.profile_step);
+  } else {
+    out.profile = profile_parameters(fine, run.space(), best, out.final,
+                                     [&](const Eigen::VectorXd& x) { return run.params(x); }, settings.profile_step,
+                                     settings.threads);
+    out.evaluations += out.profile.evaluations;
+  }
+}
+
+}  // namespace
+
 YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings) {
   if (const std::string why = settings.invalid_reason(); !why.empty())
     throw std::invalid_argument("yarn fit settings: " + why);
-  const auto start = Clock::now();
   YarnFitResult out;
-  const swarm::ParameterSpace space = yarn_parameter_space(scales, settings.linear_stretch);
-  out.bounds = space.parameters();
-  // Where the local step starts without the swarm: the middle of the bounds or --start,
-  // checked before any simulation.
-  Eigen::VectorXd best = space.from_unit(Eigen::VectorXd::Constant(space.dimension(), 0.5));
-  if (!settings.swarm && settings.start) {
-    best = point_from_params(*settings.start, settings.linear_stretch);
-    if (const auto outside = space.bounds_problems(best); !outside.empty()) {
+  FitRun run(tile, targets, scales, settings);
+  out.bounds = run.space().parameters();
+  if (!settings.swarm && settings.start) {  // checked before any simulation
+    const auto outside = run.space().bounds_problems(run.start_without_search());
+    if (!outside.empty()) {
       std::string why = "yarn fit start: " + outside.front();
       for (std::size_t i = 1; i < outside.size(); ++i) why += "; " + outside[i];
       throw std::invalid_argument(why);
     }
   }
-
-  ObjectiveOptions options = settings.objective;
-  options.rest_shape = settings.rest_shape;
-  options.samples = settings.swarm_samples;
-  set_compression_nodes(options, settings.swarm_compression_nodes, settings.swarm_samples);
-  YarnObjective objective(tile, targets, options);
-  const auto value_at = [&](const YarnObjective& f, const Eigen::VectorXd& x) {
-    return f(params_from_point(x, scales, settings.linear_stretch));
-  };
-
-  // Global step: the swarm on the few-sample objective.
-  if (settings.swarm) {
-    swarm::SwarmSettings ss;
-    ss.particles = settings.particles;
-    ss.iterations = settings.iterations;
-    ss.seed = settings.seed;
-    swarm::SwarmRunOptions run;
-    run.threads = settings.threads;
-    run.checkpoint = settings.checkpoint;
-    if (settings.progress) {
-      run.progress = [&](const swarm::SwarmProgress& p) {
-        settings.progress(fit_progress("swarm", "iteration", p.record.iteration, p.iterations, false,
-                                       p.record.best_value, seconds_since(start)));
-        return true;
-      };
-    }
-    // Each candidate stops once it cannot beat its particle's best (ParticleContext::cutoff):
-    // the swarm runs as it would with exact values, and the hopeless candidates (stiff,
-    // tight tiles, the slowest to simulate) end after their first samples.
-    std::atomic<int> stopped{0};
-    const swarm::ParticleObjective f = [&](const Eigen::VectorXd& x, const swarm::ParticleContext& c) {
-      const ObjectiveResult r =
-          objective.evaluate(params_from_point(x, scales, settings.linear_stretch), settings.swarm_cutoff ? c.cutoff : kInf);
-      if (!r.ok) throw std::runtime_error(r.message);
-      if (r.lower_bound) ++stopped;
-      return r.value;
-    };
-    out.swarm = settings.resume ? swarm::resume_swarm(settings.checkpoint, space, f, run)
-                                : swarm::run_swarm(space, f, ss, run);
-    out.evaluations += out.swarm.evaluations;
-    out.swarm_stopped = stopped.load();
-    out.seconds_swarm = out.swarm.seconds;
-    if (!out.swarm.usable()) {
-      out.message = "every swarm candidate failed: " +
-                    (out.swarm.failures.empty() ? std::string("no reason kept") : out.swarm.failures.front().message);
-      out.seconds_total = seconds_since(start);
-      return out;
-    }
-    best = out.swarm.best_point;
+  const GlobalSearchResult global = run.global_step(out);
+  out.stopped = global.stopped;
+  if (!global.ok) {
+    if (!global.stopped) out.message = global.message;
+    out.seconds_total = run.elapsed();
+    return out;
   }
-
-  // Local step on the many-sample objective, from the swarm's best.
-  YarnObjective fine(tile, targets, [&] {
-    ObjectiveOptions o = options;
-    o.samples = settings.local_samples;
-    set_compression_nodes(o, settings.local_compression_nodes, settings.local_samples);
-    return o;
-  }());
-  out.local.method = settings.local_method;
-  if (settings.local_evaluations > 0) {
-    if (settings.threads > 0) omp_set_num_threads(settings.threads);
-    const auto params_at = [&](const Eigen::VectorXd& x) { return params_from_point(x, scales, settings.linear_stretch); };
-    if (settings.local_method == LocalMethod::implicit_filtering) {
-      swarm::ImplicitFilteringSettings is;
-      is.max_evaluations = settings.local_evaluations;
-      is.initial_scale = settings.local_initial_scale;
-      is.min_scale = settings.local_min_scale;
-      is.threads = settings.threads;
-      const swarm::ResidualObjective residuals = [&](const Eigen::VectorXd& x) {
-        const ObjectiveResult r = fine.evaluate(params_at(x));
-        if (!r.ok) throw std::runtime_error(r.message);
-        return residual_vector(r);
-      };
-      swarm::ImplicitFilteringProgress progress;
-      if (settings.progress) {
-        progress = [&](const swarm::ImplicitFilteringSummary& p) {
-          settings.progress(fit_progress("local", "evaluation", p.evaluations, settings.local_evaluations, true,
-                                         p.best_value, seconds_since(start)));
-        };
-      }
-      const swarm::ImplicitFilteringSummary r = swarm::run_implicit_filtering(space, residuals, best, is, progress);
-      take_summary(r, out.local);
-      out.local.converged = r.status == swarm::ImplicitFilteringStatus::converged ||
-                            r.status == swarm::ImplicitFilteringStatus::stop_value;
-      out.local.iterations = static_cast<int>(r.history.size());
-      out.local.final_scale = r.final_scale;
-      out.local.history = r.history;
-      if (r.usable()) best = r.best_point;
-    } else {
-      swarm::CobylaSettings cs;
-      cs.max_evaluations = settings.local_evaluations;
-      cs.initial_step = settings.local_initial_step;
-      cs.x_tolerance = 1e-4;
-      int step = 0;
-      // The local objective has more samples than the swarm's: its values are not comparable
-      // with the swarm's best, so the progress tracks its own.
-      double local_best = std::numeric_limits<double>::infinity();
-      const swarm::Objective f = [&](const Eigen::VectorXd& x) {
-        const double v = value_at(fine, x);
-        ++step;
-        local_best = std::min(local_best, v);
-        if (settings.progress)
-          settings.progress(fit_progress("local", "evaluation", step, settings.local_evaluations, true, local_best,
-                                         seconds_since(start)));
-        return v;
-      };
-      const swarm::CobylaSummary r = swarm::run_cobyla(space, f, best, cs);
-      take_summary(r, out.local);
-      out.local.converged = swarm::is_converged(r.status);
-      if (r.usable()) best = r.best_point;
-    }
-    out.local.ran = true;
-    out.evaluations += out.local.evaluations;
-    out.seconds_local = out.local.seconds;
+  if (!run.local_step(global.starts, out)) {
+    out.stopped = true;
+    out.seconds_total = run.elapsed();
+    return out;
   }
-
-  out.params = params_from_point(best, scales, settings.linear_stretch);
-  out.final = fine.evaluate(out.params);
-  out.effects = out.final.effects;
-  ++out.evaluations;
-  const Eigen::VectorXd u = space.to_unit(best);
-  for (int i = 0; i < space.dimension(); ++i)
-    if (u[i] < 1e-3 || u[i] > 1.0 - 1e-3) out.on_bound.push_back(space.parameter(i).name);
-  out.ok = out.final.ok;
-  if (!out.ok) {
-    out.message = "the best parameters failed on re-evaluation: " + out.final.message;
-    out.final.directions.clear();  // the directions run before the failure: not the fit's errors
-  }
-  if (out.ok && settings.bending_points > 0) {
-    out.bending = check_bending(tile, targets, out.params, fine.options(), settings.bending_points);
-    numerics::merge_effects(out.effects, out.bending.effects);
-  }
-  if (out.ok && settings.profile_step > 0.0) {
-    out.profile = profile_parameters(
-        fine, space, best, out.final,
-        [&](const Eigen::VectorXd& x) { return params_from_point(x, scales, settings.linear_stretch); },
-        settings.profile_step, settings.threads);
-    out.evaluations += out.profile.evaluations;
-  }
-  out.seconds_total = seconds_since(start);
+  const Eigen::VectorXd best = out.local.usable() ? out.local.best_point : global.starts.front().point;
+  finish_fit(run, tile, targets, settings, best, out);
+  out.seconds_total = run.elapsed();
   return out;
 }
 
@@ -343,6 +393,53 @@ nlohmann::json curves_json(const ObjectiveResult& final) {
                       {"weight", d.weight}});
   }
   return curves;
+}
+
+}  // namespace
+
+namespace {
+
+nlohmann::json local_json(const LocalStepSummary& l) {
+  nlohmann::json j = {{"method", to_string(l.method)},
+                      {"status", l.status},
+                      {"converged", l.converged},
+                      {"best", number_or_null(l.best_value)},
+                      {"start", number_or_null(l.start_value)},
+                      {"evaluations", l.evaluations},
+                      {"failed", l.failed},
+                      {"seconds", l.seconds},
+                      {"report", l.report}};
+  if (l.method == LocalMethod::implicit_filtering) {
+    j["iterations"] = l.iterations;
+    j["final_scale"] = l.final_scale;
+    nlohmann::json history = nlohmann::json::array();
+    for (const auto& h : l.history)
+      history.push_back({{"evaluations", h.evaluations},
+                         {"scale", h.scale},
+                         {"best", h.value},
+                         {"move", swarm::to_string(h.move)},
+                         {"trials", h.trials}});
+    j["history"] = history;
+  }
+  if (l.method == LocalMethod::gauss_newton) {
+    const AlternationSummary& a = l.alternation;
+    nlohmann::json rounds = nlohmann::json::array();
+    for (const auto& round : a.rounds)
+      rounds.push_back({{"round", round.round},
+                        {"objective_start", number_or_null(round.g_start)},
+                        {"objective_held", number_or_null(round.g_end)},
+                        {"objective_trial", number_or_null(round.g_true)},
+                        {"accepted", round.accepted},
+                        {"move", round.move},
+                        {"iterations", round.iterations},
+                        {"evaluations", round.evaluations},
+                        {"termination", round.termination}});
+    j["rounds"] = rounds;
+    j["last_move"] = a.last_move;
+    j["fell_back"] = a.fell_back;
+    if (a.fell_back) j["fallback"] = {{"reason", a.fallback_reason}, {"report", a.fallback.message.empty() ? a.fallback.brief_report() : a.fallback.message}};
+  }
+  return j;
 }
 
 }  // namespace
@@ -397,6 +494,22 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
                    {"total", r.seconds_total}};
   if (settings.profile_step > 0.0) j["identifiability"] = to_json(r.profile);
   j["settings"] = {
+      {"global_method", to_string(settings.global_method)},
+      {"staged",
+       {{"contact", {{"particles", settings.staged.contact.particles},
+                     {"iterations", settings.staged.contact.iterations},
+                     {"samples", settings.staged.contact.samples}}},
+        {"all", {{"particles", settings.staged.all.particles},
+                 {"iterations", settings.staged.all.iterations},
+                 {"samples", settings.staged.all.samples}}},
+        {"r1_window", settings.staged.r1_window},
+        {"rescored", settings.staged.rescored},
+        {"starts", settings.staged.starts}}},
+      {"alternation",
+       {{"max_rounds", settings.alternation.max_rounds},
+        {"iterations_per_round", settings.alternation.iterations_per_round},
+        {"initial_radius", settings.alternation.initial_radius},
+        {"move_tolerance", settings.alternation.move_tolerance}}},
       {"particles", settings.swarm ? settings.particles : 0},
       {"iterations", settings.swarm ? settings.iterations : 0},
       {"swarm_samples", settings.swarm_samples},
@@ -410,6 +523,7 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
       {"linear_stretch", settings.linear_stretch},
       {"rest_shape", settings.rest_shape},
       {"rest_period", settings.objective.rest_period},
+      {"band_correction", settings.objective.root_correction && settings.local_method == LocalMethod::gauss_newton},
       {"bending_points", settings.bending_points},
       {"profile_step", settings.profile_step},
       {"swarm_cutoff", settings.swarm_cutoff},
@@ -428,28 +542,21 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
     j["swarm"] = {{"best", number_or_null(r.swarm.best_value)}, {"evaluations", r.swarm.evaluations},
                   {"failed", r.swarm.failed}, {"stopped_at_cutoff", r.swarm_stopped}, {"history", history},
                   {"report", r.swarm.brief_report()}};
+    nlohmann::json stages = nlohmann::json::array();
+    for (const auto& st : r.global)
+      stages.push_back({{"stage", st.name},
+                        {"evaluations", st.evaluations},
+                        {"stopped_at_cutoff", st.stopped},
+                        {"best", number_or_null(st.best)},
+                        {"seconds", st.seconds},
+                        {"report", st.swarm.history.empty() ? std::string() : st.swarm.brief_report()}});
+    j["global"] = {{"method", to_string(settings.global_method)}, {"stages", stages}};
   }
   if (r.local.ran) {
-    j["local"] = {{"method", to_string(r.local.method)},
-                  {"status", r.local.status},
-                  {"converged", r.local.converged},
-                  {"best", number_or_null(r.local.best_value)},
-                  {"start", number_or_null(r.local.start_value)},
-                  {"evaluations", r.local.evaluations},
-                  {"failed", r.local.failed},
-                  {"report", r.local.report}};
-    if (r.local.method == LocalMethod::implicit_filtering) {
-      j["local"]["iterations"] = r.local.iterations;
-      j["local"]["final_scale"] = r.local.final_scale;
-      nlohmann::json history = nlohmann::json::array();
-      for (const auto& h : r.local.history)
-        history.push_back({{"evaluations", h.evaluations},
-                           {"scale", h.scale},
-                           {"best", h.value},
-                           {"move", swarm::to_string(h.move)},
-                           {"trials", h.trials}});
-      j["local"]["history"] = history;
-    }
+    j["local"] = local_json(r.local);
+    nlohmann::json runs = nlohmann::json::array();
+    for (const auto& run : r.local_runs) runs.push_back(local_json(run));
+    j["local"]["runs"] = runs;
   }
   return j;
 }

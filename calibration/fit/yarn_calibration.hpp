@@ -24,6 +24,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "calibration/fit/alternation.hpp"
+#include "calibration/fit/global_search.hpp"
+#include "calibration/fit/local_step.hpp"
 #include "calibration/fit/parameter_profile.hpp"
 #include "calibration/objective/bending_check.hpp"
 #include "calibration/objective/yarn_objective.hpp"
@@ -36,50 +39,15 @@
 
 namespace yarnfit::calibration {
 
-// The optimiser of the local step.
-enum class LocalMethod {
-  // Default: Gauss–Newton steps on stencil differences of the residuals, the stencil
-  // halving from 2 % of every range until a stencil of 0.5 % finds nothing better than its
-  // centre (swarm/implicit_filtering.hpp). The objective is rough below about 1e-3 of the
-  // ranges (the c* searches and the rest shape settle on one of several nearby equilibria)
-  // but smooth in its trend, and the parameters trade off along curved valleys (ks1 with ε̄s
-  // and kc1 in the toe region). COBYLA's linear models stall there: a default fit of
-  // bench_calibration's recovery targets with COBYLA ended at ks1 +84 %, ε̄s +65 %,
-  // kb +41 %, R1 +0.6 %, kc1 −33 % (g 2.3e-3 on 20 samples); implicit filtering from that
-  // point reached ks1 +0.5 %, ε̄s −2.3 %, kb +2.3 %, R1 +0.15 %, kc1 −6.4 % at g 8.8e-5
-  // (the truth scores 7.9e-5) in 132 evaluations.
-  implicit_filtering,
-  cobyla,  // the thesis's local step (6.5.3), NLopt's COBYLA (swarm/cobyla.hpp)
-};
-[[nodiscard]] const char* to_string(LocalMethod method);  // "implicit-filtering", "cobyla"
-// Parses those names; empty when unknown.
-[[nodiscard]] std::optional<LocalMethod> local_method_from_string(std::string_view name);
-
-// What the local step did, whichever optimiser ran it.
-struct LocalStepSummary {
-  LocalMethod method = LocalMethod::implicit_filtering;
-  bool ran = false;
-  std::string status;      // the optimiser's status, in words
-  bool converged = false;  // stopped at its own tolerance rather than at a budget
-  double best_value = std::numeric_limits<double>::infinity();
-  double start_value = std::numeric_limits<double>::infinity();
-  int evaluations = 0;
-  int failed = 0;
-  int iterations = 0;        // implicit filtering: stencils evaluated
-  double final_scale = 0.0;  // implicit filtering: stencil half-width when it stopped (unit cube)
-  std::vector<swarm::ImplicitFilteringIteration> history;  // implicit filtering: per iteration
-  std::vector<swarm::FailedEvaluation> failures;
-  double seconds = 0.0;
-  std::string report;  // one line: the optimiser's own brief report
-
-  [[nodiscard]] bool usable() const { return std::isfinite(best_value); }
-};
-
 struct YarnFitSettings {
+  // The global step (global_search.hpp): staged (default) or the thesis's swarm.
+  GlobalMethod global_method = GlobalMethod::staged;
+  StagedSearchSettings staged;
+  // The thesis's swarm (global_method swarm): particles × iterations on swarm_samples.
   int particles = 64;
   int iterations = 10;
   int swarm_samples = 7;   // stretch samples per direction in the swarm
-  int local_samples = 20;  // and in the local step
+  int local_samples = 12;  // in the local step, the rescore and the final evaluation
   // Where c* is solved, per stage: 0 (default) at every stretch sample, by continuation
   // along s; N ≥ 2 at N evenly spread samples with c linear in between (the objective's
   // compression_nodes; 2 is the thesis's both-ends scheme of 6.5.3). On the stockinette tile,
@@ -103,7 +71,8 @@ struct YarnFitSettings {
   // local step, the result); false evaluates every candidate in full (for studies of the
   // objective over the swarm's candidates).
   bool swarm_cutoff = true;
-  LocalMethod local_method = LocalMethod::implicit_filtering;
+  LocalMethod local_method = LocalMethod::gauss_newton;
+  AlternationSettings alternation;  // gauss_newton: rounds, iterations per round, fallback
   // Budget of the local step (objective evaluations). Implicit filtering needs 13 per
   // iteration (a stencil of 10 and up to 3 trials) and usually converges within 150.
   int local_evaluations = 150;
@@ -113,8 +82,13 @@ struct YarnFitSettings {
   // With 0.002 the default recovery fit of bench_calibration made its last move at
   // evaluation 82 of 134; the 4 stencils after it, down to 0.25 %, found nothing better.
   double local_min_scale = 0.003;
-  std::filesystem::path checkpoint;  // swarm checkpoint file (empty: none)
-  bool resume = false;               // continue the swarm from `checkpoint`
+  // The fit's checkpoint (fit_checkpoint.hpp; the swarm stages write <checkpoint>.<stage>
+  // beside it); empty: none.
+  std::filesystem::path checkpoint;
+  bool resume = false;               // continue from `checkpoint` (and its stage files)
+  // Polled after every swarm iteration and local run: false stops the fit there, to be resumed
+  // from the checkpoint (YarnFitResult::stopped). Empty: never stop.
+  std::function<bool()> keep_going;
   // Curvatures per direction at which the fitted model is bent for the bending error
   // (bending_check.hpp; only directions with bending targets); 0 skips the check.
   int bending_points = 5;
@@ -123,9 +97,9 @@ struct YarnFitSettings {
   // fit, 2 evaluations per parameter; 0 skips it (--no-profile).
   double profile_step = 0.1;
   ObjectiveOptions objective;        // samples and rest_shape are set from the fields above
-  // Progress per swarm iteration (stage "swarm", the iterations planned) and per local
-  // evaluation (stage "local", the evaluation budget): best objective so far, seconds since
-  // the start of the fit.
+  // Progress per swarm iteration (stage "contact", "all" or "swarm", the iterations planned),
+  // after the rescore, and per local evaluation (stage "local"): best objective so far,
+  // seconds since the start of the fit.
   reports::ProgressFn progress;
 
   // Every invalid field, each named as above ("particles", "swarm_samples", …); empty when
@@ -138,16 +112,19 @@ struct YarnFitSettings {
 struct YarnFitResult {
   bool ok = false;
   std::string message;              // why !ok
+  bool stopped = false;             // keep_going asked to stop: resume from the checkpoint
   yarn::YarnParams params;          // best found (complete, SI)
   ObjectiveResult final;            // the best re-evaluated with local_samples per direction
   std::vector<std::string> on_bound;  // fitted parameters within 1e-3 of a bound (unit cube)
   BendingCheck bending;             // the fitted model against the bending targets (not fitted)
   ParameterProfile profile;         // how sharply the targets pin each fitted parameter
-  swarm::SwarmSummary swarm;        // empty history when the swarm was not run
-  LocalStepSummary local;
+  std::vector<GlobalStage> global;  // the global step's stages, in order (empty without one)
+  swarm::SwarmSummary swarm;        // the last swarm stage (empty history when none ran)
+  LocalStepSummary local;           // the local run whose result won
+  std::vector<LocalStepSummary> local_runs;  // every local run, in the order of their starts
   int evaluations = 0;              // objective evaluations, both stages
   int swarm_stopped = 0;            // swarm candidates stopped at their particle's best (after a resume: since it)
-  double seconds_swarm = 0.0;
+  double seconds_swarm = 0.0;       // the global step
   double seconds_local = 0.0;
   double seconds_total = 0.0;
   // The optimised parameters and their bounds (the search space of these scales).

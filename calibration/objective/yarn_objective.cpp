@@ -22,6 +22,22 @@ using Clock = std::chrono::steady_clock;
 
 double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
 
+bool same_params(const yarn::YarnParams& a, const yarn::YarnParams& b) {
+  return a.ks1 == b.ks1 && a.eps_s == b.eps_s && a.kb == b.kb && a.r1 == b.r1 && a.kc1 == b.kc1 && a.ks2 == b.ks2 &&
+         a.kc2 == b.kc2 && a.r2 == b.r2;
+}
+
+ObjectiveResult finished(ObjectiveResult& out, std::string message, Clock::time_point start) {
+  out.ok = message.empty();
+  out.message = std::move(message);
+  if (!out.ok) {
+    out.value = std::numeric_limits<double>::infinity();
+    if (!out.lower_bound) out.directions.clear();
+  }
+  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return out;
+}
+
 // Target second Piola-Kirchhoff stress at s.
 double target_pk2(const std::vector<db::UniaxialPoint>& pts, double s) {
   return pk2(interpolate_target(pts, s, &db::UniaxialPoint::stress), s);
@@ -54,18 +70,6 @@ DirectionScale comfort_scale(const db::DirectionTargets& t, const ObjectiveOptio
 }
 
 }  // namespace
-
-double interpolate_target(const std::vector<db::UniaxialPoint>& points, double s,
-                          double db::UniaxialPoint::*field) {
-  if (points.empty()) return 0.0;
-  if (s <= points.front().stretch) return points.front().*field;
-  if (s >= points.back().stretch) return points.back().*field;
-  const auto hi = std::upper_bound(points.begin(), points.end(), s,
-                                   [](double x, const db::UniaxialPoint& q) { return x < q.stretch; });
-  const auto lo = hi - 1;
-  const double f = (s - lo->stretch) / (hi->stretch - lo->stretch);
-  return (1.0 - f) * ((*lo).*field) + f * ((*hi).*field);
-}
 
 std::string ObjectiveOptions::invalid_reason() const {
   if (samples < 2) return "samples must be at least 2 (got " + std::to_string(samples) + ")";
@@ -121,232 +125,113 @@ double YarnObjective::operator()(const yarn::YarnParams& params) const {
   return r.value;
 }
 
+RestState YarnObjective::rest_state(const yarn::YarnParams& params) const {
+  RestStateOptions o;
+  o.rest_shape = m_options.rest_shape;
+  o.rest = m_options.rest;
+  o.rest_period = m_options.rest_period;
+  o.period = m_options.period;
+  return relax_rest_state(m_tile, params, o);
+}
+
 ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double cutoff) const {
   const auto start = Clock::now();
   ObjectiveResult out;
   out.value = std::numeric_limits<double>::infinity();
-  auto finish = [&](std::string message) {
-    out.ok = message.empty();
-    out.message = std::move(message);
-    if (!out.ok) out.value = std::numeric_limits<double>::infinity();
-    out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return out;
-  };
-  if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
+  if (const auto why = params.invalid_reason()) return finished(out, "invalid parameters: " + *why, start);
+  const RestState rest = rest_state(params);
+  out.rest = rest.rest;
+  out.period = rest.period;
+  out.newton_iterations += rest.newton_iterations;
+  if (!rest.ok) return finished(out, rest.message, start);
+  out.effects = rest.system->effects();
+  AtRestOptions fresh;
+  fresh.cutoff = cutoff;
+  sweep_directions(rest, nullptr, fresh, out);
+  return finished(out, out.message, start);
+}
 
-  yarn::YarnSystem relaxed(m_tile, params);  // a copy of the tile per evaluation
-  out.effects = relaxed.effects();
-  Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(relaxed.dof_count());
-  if (m_options.rest_shape) {
-    out.rest = relax_rest_shape(relaxed, g_rest, m_options.rest);
-    out.newton_iterations += out.rest.newton_iterations;
-    if (!out.rest.converged) {
-      return finish("rest-shape heuristic did not converge: " + out.rest.last_solve.message);
-    }
-  }
-  if (m_options.rest_period) {
-    out.period = yarn::relax_rest_period(relaxed, g_rest, m_options.period);
-    out.newton_iterations += out.period.newton_iterations;
-    if (!out.period.converged) return finish("rest period did not converge: " + out.period.message);
-  }
+ObjectiveResult YarnObjective::evaluate_at_rest(const RestState& rest, const yarn::YarnParams& params,
+                                                const AtRestOptions& options) const {
+  const auto start = Clock::now();
+  ObjectiveResult out;
+  out.value = std::numeric_limits<double>::infinity();
+  out.held_rest = true;
+  out.derivative_params.assign(options.wanted.begin(), options.wanted.end());
+  if (const auto why = params.invalid_reason()) return finished(out, "invalid parameters: " + *why, start);
+  if (!rest.ok || !rest.system) return finished(out, "no rest state to hold: " + rest.message, start);
+  out.effects = rest.system->effects();
+  sweep_directions(rest, &params, options, out);
+  return finished(out, out.message, start);
+}
 
-  // One direction's term: its own copy of the relaxed system, so that directions can run
-  // in parallel. Returns why it failed, or an empty string.
-  const int n = m_options.samples;
-  const auto run_direction = [&](std::size_t d, yarn::YarnSystem& system, DirectionError& e, int& iterations,
-                                 int& loose, bool& stopped) -> std::string {
-    const db::DirectionTargets& t = m_targets[d];
-    const std::string dname(db::to_string(t.direction));
-    const double angle = db::pull_angle(t.direction);
-    const double s0 = t.stretch.front().stretch, s1 = t.stretch.back().stretch;
+SweepSettings YarnObjective::sweep_settings(std::size_t direction, const AtRestOptions& options) const {
+  const DirectionScale& scale = m_scales[direction];
+  SweepSettings s;
+  s.samples = m_options.samples;
+  s.every_sample = m_options.free_compression_every_sample;
+  s.nodes = m_options.compression_nodes;
+  s.compression = m_options.compression;
+  s.compression.stress_tolerance = m_options.compression_stress_fraction * scale.stress_norm;
+  s.solve = m_options.solve;
+  s.root_correction = m_options.root_correction;
+  s.flat_band = m_options.flat_band;
+  s.accept_bands = m_options.accept_bands;
+  s.wanted = options.wanted;
+  s.cutoff = options.cutoff;
+  s.record_states = options.record_states;
+  if (options.warm != nullptr && options.warm->size() == m_targets.size()) s.warm = &(*options.warm)[direction];
+  return s;
+}
 
-    auto count = [&](const yarn::Sample& smp) {
-      if (smp.last_solve.status == yarn::Termination::converged_loosely) ++loose;
-      e.solves += smp.solves;
-      iterations += smp.newton_iterations;
-    };
-    // Sample i's terms, added as soon as its c and σ are known. True once this direction's
-    // partial sum reaches the cutoff: the terms are non-negative, so g does too.
-    double sum_sq = 0.0;
-    const auto add_sample = [&](double s, double c, double sigma) {
-      const double s_sim = pk2(sigma, s);
-      const double s_tgt = target_pk2(t.stretch, s);
-      const double c_tgt = interpolate_target(t.stretch, s, &db::UniaxialPoint::compression);
-      const double w = e.scale.comfort_value / std::max(e.scale.comfort_value, s_tgt);
-      const double ds = (s_sim - s_tgt) / e.scale.stress_norm;
-      const double dc = (c - c_tgt) / e.scale.compression_norm;
-      sum_sq += w * (ds * ds + dc * dc);
-      e.stretch.push_back(s);
-      e.stress_sim.push_back(s_sim);
-      e.stress_target.push_back(s_tgt);
-      e.compression_sim.push_back(c);
-      e.compression_target.push_back(c_tgt);
-      e.weight.push_back(w);
-      stopped = sum_sq / n >= cutoff;
-      return stopped;
-    };
-    // The reported errors (SPEC §3, Fig. 6.15) over the samples run; the stretches increase,
-    // so the comfort range is a leading run of them.
-    const auto finish_direction = [&]() -> std::string {
-      e.value = sum_sq / n;
-      std::size_t n_comfort = 0;
-      while (n_comfort < e.stretch.size() && e.stretch[n_comfort] <= e.scale.comfort_stretch + 1e-12) ++n_comfort;
-      const std::span<const double> sim(e.stress_sim), tgt(e.stress_target);
-      e.stress_full_pct = reports::yarn_error_pct(sim, tgt, e.scale.stress_norm);
-      e.stress_comfort_pct = n_comfort > 0
-                                 ? reports::yarn_error_pct(sim.first(n_comfort), tgt.first(n_comfort), e.scale.stress_norm)
-                                 : e.stress_full_pct;
-      e.compression_pct = reports::yarn_error_pct(e.compression_sim, e.compression_target, e.scale.compression_norm);
-      return {};
-    };
-
-    // Every c* search starts from the targets' compression (c*(s0) at the target's value
-    // there; later nodes at the march's) and accepts a c whose orthogonal stress is within
-    // a small fraction of the stress norm (see ObjectiveOptions::compression_stress_fraction).
-    Eigen::VectorXd g = g_rest;
-    const double c_tgt0 = interpolate_target(t.stretch, s0, &db::UniaxialPoint::compression);
-    yarn::CompressionOptions comp = m_options.compression;
-    comp.stress_tolerance = m_options.compression_stress_fraction * e.scale.stress_norm;
-    comp.initial_guess = c_tgt0;
-    yarn::CoarseDeformation chi;
-    chi.angle = angle;
-    chi.stretch = s0;
-    const yarn::Sample first = yarn::solve_free_compression(system, chi, g, comp, m_options.solve);
-    count(first);
-    if (!first.ok) return (dname + ": free compression at s = " + db::format_g(s0) + " failed: " + first.message);
-    const double c0 = first.chi.compression;
-    const auto stretch_at = [&](int i) { return s0 + (s1 - s0) * static_cast<double>(i) / (n - 1); };
-    const auto target_c = [&](double s) { return interpolate_target(t.stretch, s, &db::UniaxialPoint::compression); };
-    if (m_options.free_compression_every_sample) {
-      // c* at every sample, by continuation along s: each search starts from the previous
-      // sample's equilibrium, at its c* moved by the targets' change of c, with a first
-      // bracketing step of the size of the last change of c*.
-      if (add_sample(s0, c0, first.stress_s)) return finish_direction();
-      double c_prev = c0, dc_prev = 0.0, slope_prev = first.stress_c_slope;
-      for (int i = 1; i < n; ++i) {
-        const double s = stretch_at(i);
-        yarn::CompressionOptions cs = comp;
-        cs.initial_guess = c_prev + target_c(s) - target_c(stretch_at(i - 1));
-        cs.initial_step = std::clamp(2.0 * std::abs(dc_prev), 0.002, std::min(cs.initial_step, 0.02));
-        cs.initial_slope = slope_prev;
-        chi.stretch = s;
-        yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
-        count(smp);
-        if (!smp.ok) return (dname + ": free compression at s = " + db::format_g(s) + " failed: " + smp.message);
-        dc_prev = smp.chi.compression - c_prev;
-        c_prev = smp.chi.compression;
-        if (smp.stress_c_slope > 0.0) slope_prev = smp.stress_c_slope;
-        if (add_sample(s, smp.chi.compression, smp.stress_s)) break;
-      }
-      return finish_direction();
-    }
-
-    // c* at the nodes only (6.5.3: both ends), linear in between. The far nodes are reached
-    // by marching the sample stretches first, at the compression the targets' shape
-    // suggests (c*(s0) plus the targets' change of c), each solve warm from the last: a
-    // node's search then starts from a nearby equilibrium instead of from the rest state
-    // (each of its trials was a cold solve, most of an evaluation's cost).
-    const int nodes = std::clamp(m_options.compression_nodes, 2, n);
-    std::vector<int> node_index;
-    for (int k = 0; k < nodes; ++k)
-      node_index.push_back(static_cast<int>(std::lround(static_cast<double>(k) * (n - 1) / (nodes - 1))));
-    std::vector<yarn::Sample> node_sample{first};
-    std::vector<Eigen::VectorXd> march(static_cast<std::size_t>(n));
-    march[0] = g;
-    std::vector<double> c_march(static_cast<std::size_t>(n), c0);
-    for (int i = 1; i < n; ++i) {
-      yarn::CoarseDeformation x = chi;
-      x.stretch = stretch_at(i);
-      x.compression = c0 + target_c(x.stretch) - c_tgt0;
-      const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
-      count(smp);
-      if (!smp.ok) return (dname + ": sample at s = " + db::format_g(x.stretch) + " failed: " + smp.message);
-      march[static_cast<std::size_t>(i)] = g;
-      c_march[static_cast<std::size_t>(i)] = x.compression;
-    }
-    for (int k = 1; k < nodes; ++k) {
-      const int i = node_index[static_cast<std::size_t>(k)];
-      g = march[static_cast<std::size_t>(i)];
-      yarn::CompressionOptions cs = comp;
-      cs.initial_guess = c_march[static_cast<std::size_t>(i)];
-      cs.initial_step = std::min(cs.initial_step, 0.02);
-      chi.stretch = stretch_at(i);
-      yarn::Sample smp = yarn::solve_free_compression(system, chi, g, cs, m_options.solve);
-      count(smp);
-      if (!smp.ok)
-        return (dname + ": free compression at s = " + db::format_g(chi.stretch) + " failed: " + smp.message);
-      node_sample.push_back(std::move(smp));
-    }
-
-    // Samples at the interpolated compression, each warm-started from the march's state at
-    // the same stretch (a nearby compression); nodes reuse their free-compression solves.
-    std::size_t k = 0;  // node at or before sample i
-    for (int i = 0; i < n; ++i) {
-      const double s = stretch_at(i);
-      while (k + 1 < node_index.size() && node_index[k + 1] <= i) ++k;
-      double c = 0.0;
-      double sigma = 0.0;
-      if (node_index[k] == i) {
-        c = node_sample[k].chi.compression;
-        sigma = node_sample[k].stress_s;
-      } else {
-        const double sa = stretch_at(node_index[k]), sb = stretch_at(node_index[k + 1]);
-        const double f = (s - sa) / (sb - sa);
-        c = (1.0 - f) * node_sample[k].chi.compression + f * node_sample[k + 1].chi.compression;
-        g = march[static_cast<std::size_t>(i)];
-        yarn::CoarseDeformation x = chi;
-        x.stretch = s;
-        x.compression = c;
-        const yarn::Sample smp = yarn::simulate_sample(system, x, g, m_options.solve);
-        count(smp);
-        if (!smp.ok) return (dname + ": sample at s = " + db::format_g(s) + " failed: " + smp.message);
-        sigma = smp.stress_s;
-      }
-      if (add_sample(s, c, sigma)) break;
-    }
-    return finish_direction();
-  };
-
+void YarnObjective::sweep_directions(const RestState& rest, const yarn::YarnParams* params,
+                                     const AtRestOptions& options, ObjectiveResult& out) const {
   // Directions in parallel when not already inside a parallel region (the swarm evaluates
-  // particles in parallel; COBYLA's local step is serial and would leave a core idle).
-  // Each direction's result does not depend on the others, so the value is the same
-  // whatever the number of threads.
+  // particles in parallel; the local step is serial and would leave a core idle). Each
+  // direction's result does not depend on the others, so the value is the same whatever the
+  // number of threads. Each direction decides on its own partial sum whether to stop at the
+  // cutoff; run serially, the directions after a stopped one are skipped.
   const int nd = static_cast<int>(m_targets.size());
   std::vector<DirectionError> errors(static_cast<std::size_t>(nd));
   std::vector<std::string> failures(static_cast<std::size_t>(nd));
-  std::vector<int> iterations(static_cast<std::size_t>(nd), 0), loose(static_cast<std::size_t>(nd), 0);
-  std::vector<char> stopped(static_cast<std::size_t>(nd), 0), skipped(static_cast<std::size_t>(nd), 0);
+  std::vector<SweepCounts> counts(static_cast<std::size_t>(nd));
+  std::vector<char> skipped(static_cast<std::size_t>(nd), 0);
   const bool parallel = nd > 1 && !omp_in_parallel();
+  const auto stopped_before = [&](int d) {
+    return std::any_of(counts.begin(), counts.begin() + d, [](const SweepCounts& c) { return c.stopped; });
+  };
 #pragma omp parallel for schedule(dynamic) if (parallel)
   for (int d = 0; d < nd; ++d) {
     const auto k = static_cast<std::size_t>(d);
-    // Run serially, a stop makes the remaining directions pointless.
-    if (!parallel && std::find(stopped.begin(), stopped.begin() + d, 1) != stopped.begin() + d) {
+    if (!parallel && stopped_before(d)) {
       skipped[k] = 1;
       continue;
     }
-    yarn::YarnSystem copy = relaxed;
+    yarn::YarnSystem copy = *rest.system;
+    // The rest state's own parameters keep its contact list: the evaluation is then bitwise
+    // the one evaluate() makes of them.
+    if (params != nullptr && !same_params(*params, rest.params)) copy.set_params(*params);
     errors[k].scale = m_scales[k];
-    bool stop = false;
-    failures[k] = run_direction(k, copy, errors[k], iterations[k], loose[k], stop);
-    stopped[k] = stop ? 1 : 0;
+    failures[k] = sweep_direction(copy, rest.g, m_targets[k], sweep_settings(k, options), errors[k], counts[k]);
   }
-  out.lower_bound = std::find(stopped.begin(), stopped.end(), 1) != stopped.end();
+  out.lower_bound = std::any_of(counts.begin(), counts.end(), [](const SweepCounts& c) { return c.stopped; });
   double total = 0.0;
   for (std::size_t k = 0; k < errors.size(); ++k) {
-    out.newton_iterations += iterations[k];
-    out.loose_solves += loose[k];
+    out.newton_iterations += counts[k].newton_iterations;
+    out.loose_solves += counts[k].loose_solves;
     if (skipped[k]) continue;
     if (!failures[k].empty()) {
       if (out.lower_bound) continue;  // g is already known to reach the cutoff
-      return finish(failures[k]);
+      out.message = failures[k];
+      return;
     }
     total += errors[k].value;
     out.solves += errors[k].solves;
+    out.held_compressions += errors[k].held;
+    out.flat_compressions += errors[k].flat;
     out.directions.push_back(std::move(errors[k]));
   }
   out.value = total;
-  return finish({});
 }
 
 WeightedErrors weighted_errors(const ObjectiveResult& result) {
@@ -360,6 +245,24 @@ WeightedErrors weighted_errors(const ObjectiveResult& result) {
       out.weight.push_back(w);
       out.error.push_back((d.compression_sim[i] - d.compression_target[i]) / d.scale.compression_norm);
       out.weight.push_back(w);
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXd residual_jacobian(const ObjectiveResult& result) {
+  if (!result.ok) return {};
+  const auto k = static_cast<Eigen::Index>(result.derivative_params.size());
+  Eigen::Index rows = 0;
+  for (const auto& d : result.directions) rows += 2 * static_cast<Eigen::Index>(d.stretch.size());
+  Eigen::MatrixXd out(rows, k);
+  Eigen::Index row = 0;
+  for (const auto& d : result.directions) {
+    const double n = static_cast<double>(d.stretch.size());
+    for (std::size_t i = 0; i < d.stretch.size(); ++i) {
+      const double root_weight = std::sqrt(d.weight[i] / n);
+      out.row(row++) = (root_weight / d.scale.stress_norm) * d.d_stress_sim[i].transpose();
+      out.row(row++) = (root_weight / d.scale.compression_norm) * d.d_compression_sim[i].transpose();
     }
   }
   return out;

@@ -5,14 +5,15 @@
 //                + mean_i w_i ((c_sim(s_i) − c_tgt(s_i)) / c_norm)² ]
 //
 // for a candidate p, after the rest-shape heuristic (6.5.2) has run on a copy of the tile with
-// p (the alternation of 6.5.3). Per direction:
+// p (rest_state.hpp), or on a rest state the caller holds (the local step's alternation). Per
+// direction (direction_sweep.hpp):
 //  * stretches s_i: `samples` points evenly over the targets' stretch range [s_first, s_last]
 //    (7 in the swarm, 20 in the local step);
 //  * compression: the zero-orthogonal-stress c* solved at every sample (default), or, as in
 //    the thesis (6.5.3), only at s_first and s_last (or more nodes) and interpolated linearly
-//    in between; c_sim(s_i) is that c*. The samples are first marched from s_first at the
-//    compression the targets' shape suggests, and each c* search starts from the march's
-//    state at its stretch (a cold search from the rest state cost most of an evaluation);
+//    in between; c_sim(s_i) is that c*, moved to the root of ∂Ψ/∂c to first order
+//    (root_correction, the default: the search accepts the first c within a stress band, which
+//    is piecewise constant in p);
 //  * stress: the second Piola-Kirchhoff stretch stress S = σ_s / (1 + s) (SPEC §3: "second
 //    Piola-Kirchhoff stress σ_s/(1+s)"). σ_s from the yarn model (readouts.hpp) and from
 //    shell_fit's targets is the first Piola-Kirchhoff uᵀ P u (force per reference width); with
@@ -43,6 +44,10 @@
 #include <string>
 #include <vector>
 
+#include <span>
+
+#include "calibration/objective/direction_sweep.hpp"
+#include "calibration/objective/rest_state.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/homogenise/rest_period.hpp"
@@ -71,6 +76,18 @@ struct ObjectiveOptions {
   // the compression norm) and made g noisy; within the band the search keeps the first c it
   // evaluates, starting from the targets' compression. 0: exact roots.
   double compression_stress_fraction = 1e-3;
+  // Read the band from the same solve to first order (yarn_fit/homogenise/sensitivity.hpp: the
+  // root c − f/f_c, the half-width τ/f_c) and take its point nearest the targets' c, with σ_s
+  // moved along: the read-outs are then smooth in p instead of jumping with the c the search
+  // happened to enter the band at. Off: the accepted c as it is (the objective before issue 33,
+  // kept for the thesis's method).
+  bool root_correction = true;
+  // Bands wider than ±flat_band (Ψ nearly flat in c: the tile does not determine its width
+  // there) are counted (DirectionError::flat, ObjectiveResult::flat_compressions).
+  double flat_band = 0.05;
+  // With root_correction, a compression search stops once |∂Ψ/∂c| is within this many bands
+  // (the read-out is then taken to the band to first order from that solve).
+  double accept_bands = 1.0;
   bool rest_shape = true;                  // run the heuristic per candidate (off: ablation)
   yarn::RestShapeOptions rest;
   // true (--relax-period): after the rest shape, the tile period is relaxed per candidate
@@ -98,30 +115,6 @@ struct ObjectiveOptions {
   [[nodiscard]] std::string invalid_reason() const;
 };
 
-// The fixed comfort-range facts of one direction's targets.
-struct DirectionScale {
-  db::Direction direction = db::Direction::weft;
-  double comfort_stretch = 0.0;   // end of the comfort range
-  double comfort_value = 0.0;     // v_comfort: target S at comfort_stretch [N/m]
-  double stress_norm = 0.0;       // largest target S in the comfort range [N/m]
-  double compression_norm = 0.0;  // largest target |c| in the comfort range (≥ min norm)
-};
-
-struct DirectionError {
-  DirectionScale scale;
-  double value = 0.0;               // this direction's term of g
-  double stress_comfort_pct = 0.0;
-  double stress_full_pct = 0.0;
-  double compression_pct = 0.0;
-  std::vector<double> stretch;            // s_i
-  std::vector<double> stress_sim;         // S_sim(s_i) [N/m], second Piola-Kirchhoff
-  std::vector<double> stress_target;      // S_tgt(s_i)
-  std::vector<double> compression_sim;    // interpolated (or solved) c*
-  std::vector<double> compression_target;
-  std::vector<double> weight;             // w_i
-  int solves = 0;
-};
-
 struct ObjectiveResult {
   bool ok = false;
   std::string message;  // why it failed (rest shape or a sample did not converge)
@@ -131,13 +124,29 @@ struct ObjectiveResult {
   // cover only the samples run.
   bool lower_bound = false;
   std::vector<DirectionError> directions;
+  // The parameters the samples' derivatives are with respect to (evaluate_at_rest), in order.
+  std::vector<yarn::YarnParam> derivative_params;
+  bool held_rest = false;            // evaluated on a rest state the caller held (not relaxed at p)
   yarn::RestShapeResult rest;
   yarn::RestPeriodResult period;     // when ObjectiveOptions::rest_period
   std::vector<std::string> effects;  // the terms the tile's scenes assembled
   int solves = 0;
   int loose_solves = 0;  // solves accepted as converged_loosely (see ObjectiveOptions::solve)
+  int held_compressions = 0;  // samples with d²Ψ/dc² ≤ 0: c held where the search accepted it
+  int flat_compressions = 0;  // samples whose compression band was wider than ±flat_band
   int newton_iterations = 0;
   double seconds = 0.0;
+};
+
+// How an evaluation on a held rest state runs (YarnObjective::evaluate_at_rest).
+struct AtRestOptions {
+  std::span<const yarn::YarnParam> wanted;  // derivatives with respect to these (empty: none)
+  // Per direction, where a previous evaluation left its samples (DirectionError::states): each
+  // sample starts there (direction_sweep.hpp, warm starts). Null, or a size that does not
+  // match: from the rest state.
+  const std::vector<SweepStates>* warm = nullptr;
+  bool record_states = false;  // keep each direction's sample states in the result
+  double cutoff = std::numeric_limits<double>::infinity();
 };
 
 class YarnObjective {
@@ -156,15 +165,29 @@ class YarnObjective {
   // are skipped. A stopped evaluation counts as stopped even when a later direction fails.
   [[nodiscard]] ObjectiveResult evaluate(const yarn::YarnParams& params,
                                          double cutoff = std::numeric_limits<double>::infinity()) const;
+  // The rest state of `params` (rest_state.hpp) with this objective's options.
+  [[nodiscard]] RestState rest_state(const yarn::YarnParams& params) const;
+  // g at `params` on a rest state held from another parameter set (the alternation's local
+  // runs), with every sample's derivatives with respect to `options.wanted` at that rest
+  // state. A rest state that is not ok gives a failed result.
+  [[nodiscard]] ObjectiveResult evaluate_at_rest(const RestState& rest, const yarn::YarnParams& params,
+                                                 const AtRestOptions& options = {}) const;
   // g for the optimisers; throws std::runtime_error with the reason when the evaluation
   // fails (swarm::evaluate_guarded turns that into a penalised failure).
   [[nodiscard]] double operator()(const yarn::YarnParams& params) const;
 
   [[nodiscard]] const std::vector<DirectionScale>& scales() const { return m_scales; }
+  [[nodiscard]] const yarn::YarnTile& tile() const { return m_tile; }
   [[nodiscard]] const ObjectiveOptions& options() const { return m_options; }
   void set_samples(int samples);  // 7 in the swarm, 20 in the local step
 
  private:
+  [[nodiscard]] SweepSettings sweep_settings(std::size_t direction, const AtRestOptions& options) const;
+  // The directions' sweeps from the rest state (with `params` instead of the rest state's own
+  // when given), in parallel outside a parallel region, summed into `out`.
+  void sweep_directions(const RestState& rest, const yarn::YarnParams* params, const AtRestOptions& options,
+                        ObjectiveResult& out) const;
+
   yarn::YarnTile m_tile;
   std::vector<db::DirectionTargets> m_targets;  // directions with stretch targets only
   std::vector<DirectionScale> m_scales;
@@ -183,7 +206,8 @@ WeightedErrors weighted_errors(const ObjectiveResult& result);
 // weight (what Gauss–Newton models of g difference). Empty for a failed evaluation.
 Eigen::VectorXd residual_vector(const ObjectiveResult& result);
 
-// Linear interpolation of the targets' (stretch → value) at s, clamped to the ends.
-double interpolate_target(const std::vector<db::UniaxialPoint>& points, double s, double db::UniaxialPoint::*field);
+// dr/dθ (rows as residual_vector's, one column per ObjectiveResult::derivative_params) of an
+// evaluation with derivatives (evaluate_at_rest); empty for a failed evaluation.
+Eigen::MatrixXd residual_jacobian(const ObjectiveResult& result);
 
 }  // namespace yarnfit::calibration

@@ -1,7 +1,6 @@
 #include "numerics/newton/newton_solver.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,81 +16,12 @@ namespace yarnfit::numerics {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
 
 std::string format_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
   return buf;
 }
-
-// The lower triangle of H with an explicit diagonal, factorised as H + μ·d̄·I with d̄ the
-// mean |diagonal|. The symbolic analysis (fill-reducing ordering, elimination tree) is kept
-// while the pattern stays the same: it changes only when a contact pair enters or leaves.
-class ShiftedFactorisation {
- public:
-  // Builds the matrix from `lower` (row ≥ column, duplicates summed in order) plus zeros on
-  // the diagonal.
-  void assemble(int n, Triplets& lower) {
-    m_n = n;
-    for (int i = 0; i < n; ++i) lower.emplace_back(i, i, 0.0);
-    m_matrix.resize(n, n);
-    m_matrix.setFromTriplets(lower.begin(), lower.end());
-    m_base.assign(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros());
-    // Sorted column-major lower triangle: each column's diagonal is its first entry.
-    double sum = 0.0;
-    for (int j = 0; j < n; ++j) sum += std::abs(m_base[static_cast<std::size_t>(m_matrix.outerIndexPtr()[j])]);
-    m_scale = n > 0 ? sum / n : 1.0;
-    if (!(m_scale > 0.0)) m_scale = 1.0;  // an all-zero diagonal: shifts relative to 1
-  }
-
-  // Smallest diagonal entry relative to d̄: a matrix with a non-positive diagonal entry
-  // cannot be positive definite.
-  [[nodiscard]] double relative_min_diagonal() const {
-    double lowest = std::numeric_limits<double>::infinity();
-    for (int j = 0; j < m_n; ++j)
-      lowest = std::min(lowest, m_base[static_cast<std::size_t>(m_matrix.outerIndexPtr()[j])]);
-    return lowest / m_scale;
-  }
-
-  // Factorises H + shift·d̄·I; false if that is not positive definite.
-  bool factorise(double shift) {
-    double* values = m_matrix.valuePtr();
-    std::copy(m_base.begin(), m_base.end(), values);
-    const double alpha = shift * m_scale;
-    for (int j = 0; j < m_n; ++j) values[m_matrix.outerIndexPtr()[j]] += alpha;
-    if (!same_pattern()) {
-      m_solver.analyzePattern(m_matrix);
-      m_outer.assign(m_matrix.outerIndexPtr(), m_matrix.outerIndexPtr() + m_n + 1);
-      m_inner.assign(m_matrix.innerIndexPtr(), m_matrix.innerIndexPtr() + m_matrix.nonZeros());
-      ++m_analyses;
-    }
-    m_solver.factorize(m_matrix);
-    if (m_solver.info() != Eigen::Success) return false;
-    // A positive D makes LDLᵀ positive definite, so the solve gives a descent direction.
-    return m_n == 0 || m_solver.vectorD().minCoeff() > 0.0;
-  }
-
-  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return m_solver.solve(rhs); }
-  [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const { return m_solver.solve(rhs); }
-  [[nodiscard]] int analyses() const { return m_analyses; }
-
- private:
-  [[nodiscard]] bool same_pattern() const {
-    return !m_outer.empty() && m_outer.size() == static_cast<std::size_t>(m_n + 1) &&
-           m_inner.size() == static_cast<std::size_t>(m_matrix.nonZeros()) &&
-           std::equal(m_outer.begin(), m_outer.end(), m_matrix.outerIndexPtr()) &&
-           std::equal(m_inner.begin(), m_inner.end(), m_matrix.innerIndexPtr());
-  }
-
-  int m_n = 0;
-  SparseMatrix m_matrix;
-  std::vector<double> m_base;  // unshifted values
-  double m_scale = 1.0;
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> m_solver;
-  std::vector<int> m_outer, m_inner;  // the analysed pattern
-  int m_analyses = 0;
-};
 
 double infinity_norm(const Eigen::VectorXd& v) { return v.size() > 0 ? v.lpNorm<Eigen::Infinity>() : 0.0; }
 
@@ -172,7 +102,8 @@ Eigen::VectorXd projected_gradient(const Eigen::MatrixXd* c, const Eigen::Vector
   return gradient - c->transpose() * lambda;
 }
 
-NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const NewtonOptions& options) {
+NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const NewtonOptions& options,
+                           ShiftedLdlt* workspace) {
   const auto start = Clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::string why;
@@ -195,11 +126,13 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     if (c == nullptr) return infinity_norm(gradient);
     return infinity_norm(gradient - c->transpose() * cct_ldlt.solve(*c * gradient));
   };
-  ShiftedFactorisation factor;
+  ShiftedLdlt own_factor;
+  ShiftedLdlt& factor = workspace != nullptr ? *workspace : own_factor;
+  const int analyses_before = factor.analyses();
   const auto finish = [&](NewtonStatus status, std::string message) {
     summary.status = status;
     summary.message = std::move(message);
-    summary.analyses = factor.analyses();
+    summary.analyses = factor.analyses() - analyses_before;
     summary.seconds = elapsed();
     return summary;
   };

@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "numerics/linear/shifted_ldlt.hpp"
 #include "numerics/terms/energy_term.hpp"
 
 namespace yarnfit::numerics {
@@ -216,8 +217,11 @@ struct NewtonSummary {
 // when its size differs). With constraints x is first projected onto C x = 0. On return x
 // holds a state of finite energy unless the status is invalid_start (then the start, after
 // that projection). Throws std::invalid_argument for invalid options; numerical trouble is
-// reported in the summary, never thrown.
-NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const NewtonOptions& options);
+// reported in the summary, never thrown. A caller that solves the same system again and
+// again passes a `workspace` it keeps: its symbolic analysis and triplet slots carry over
+// (shifted_ldlt.hpp), and it holds the last factorisation on return.
+NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const NewtonOptions& options,
+                           ShiftedLdlt* workspace = nullptr);
 
 // The residual of a gradient: ‖z‖∞ with z = (I − Cᵀ(CCᵀ)⁻¹C) g, or ‖g‖∞ without C.
 [[nodiscard]] Eigen::VectorXd projected_gradient(const Eigen::MatrixXd* constraints, const Eigen::VectorXd& gradient);

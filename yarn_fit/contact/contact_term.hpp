@@ -19,6 +19,8 @@ namespace yarnfit::yarn {
 class ContactTerm final : public PeriodicTerm<ContactTerm, 4> {
  public:
   static constexpr bool zero_energy_is_inactive = true;
+  static constexpr std::array<YarnParam, 4> sensitivity_params{YarnParam::kc1, YarnParam::r1, YarnParam::kc2,
+                                                               YarnParam::r2};
 
   ContactTerm(const YarnTile& tile, const TilePlacement& placement, const ContactCandidates& candidates,
               const YarnParams& params)
@@ -42,6 +44,14 @@ class ContactTerm final : public PeriodicTerm<ContactTerm, 4> {
     return contact_element(x[0], x[1], x[2], x[3], tile().edges[static_cast<std::size_t>(cc.a)].rest_length,
                            tile().edges[static_cast<std::size_t>(cc.b)].rest_length, m_model, gradient, hessian,
                            project_psd);
+  }
+
+  bool element_sensitivity(int e, const std::array<Eigen::Vector3d, 4>& x, Vec<4>& d_energy,
+                           Eigen::Matrix<double, 12, 4>& d_gradient) const {
+    const ContactCandidate& cc = m_candidates->pairs()[static_cast<std::size_t>(e)];
+    return contact_element_sensitivity(x[0], x[1], x[2], x[3], tile().edges[static_cast<std::size_t>(cc.a)].rest_length,
+                                       tile().edges[static_cast<std::size_t>(cc.b)].rest_length, m_model, d_energy,
+                                       d_gradient);
   }
 
   // Largest t ∈ (0, 1] keeping every candidate pair at least half its distance apart.

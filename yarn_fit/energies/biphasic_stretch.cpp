@@ -64,4 +64,32 @@ double stretch_element(const Vec3& x0, const Vec3& x1, double rest_length,
   return value;
 }
 
+bool stretch_element_sensitivity(const Vec3& x0, const Vec3& x1, double rest_length, const BiphasicStretch& model,
+                                 Vec<3>& d_energy, Eigen::Matrix<double, 6, 3>& d_gradient) {
+  const Vec3 e = x1 - x0;
+  const double l = e.norm();
+  if (!(l > 0.0) || !(rest_length > 0.0)) return false;
+  const double strain = l / rest_length - 1.0;
+  const double es = model.eps_s;
+  // ∂w/∂θ and ∂w'/∂θ on the branch of w that ε lies in (the same tests as w and dw).
+  Vec<3> dw, dtension;
+  if (strain < 0.0) {
+    dw << 0.0, 0.0, 0.5 * strain * strain;
+    dtension << 0.0, 0.0, strain;
+  } else if (strain < es) {
+    dw << 0.5 * strain * strain, 0.0, 0.0;
+    dtension << strain, 0.0, 0.0;
+  } else {
+    const double over = strain - es;
+    dw << 0.5 * es * (2.0 * strain - es), (model.ks1 - model.ks2) * over, 0.5 * over * over;
+    dtension << es, model.ks1 - model.ks2, over;
+  }
+  d_energy = rest_length * dw;
+  const Vec3 t = e / l;
+  d_gradient.topRows<3>() = -t * dtension.transpose();
+  d_gradient.bottomRows<3>() = t * dtension.transpose();
+  return true;
+}
+
 }  // namespace yarnfit::yarn
+

@@ -190,4 +190,72 @@ double contact_element(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec
   return value;
 }
 
+namespace {
+
+// One barrier's parameter derivatives at distance D: ∂e/∂kc, ∂e/∂R and of e' = de/dD.
+struct BarrierSensitivity {
+  double e_kc = 0.0, e_r = 0.0, de_kc = 0.0, de_r = 0.0;
+};
+
+BarrierSensitivity barrier_sensitivity(double distance, double kc, double radius) {
+  BarrierSensitivity out;
+  if (!(radius > 0.0)) return out;
+  const double x = distance / (2.0 * radius);
+  if (x >= 1.0) return out;
+  const BarrierF b = barrier_f(x);
+  const double g = b.f * b.f;
+  const double g1 = 2.0 * b.f * b.df;
+  const double g2 = 2.0 * (b.df * b.df + b.f * b.d2f);
+  out.e_kc = g;
+  out.e_r = -kc * g1 * x / radius;
+  out.de_kc = g1 / (2.0 * radius);
+  out.de_r = -kc * (x * g2 + g1) / (2.0 * radius * radius);
+  return out;
+}
+
+}  // namespace
+
+bool contact_element_sensitivity(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                                 double rest_length_a, double rest_length_b, const TwoBarrierContact& model,
+                                 Vec<4>& d_energy, Eigen::Matrix<double, 12, 4>& d_gradient) {
+  d_energy.setZero();
+  d_gradient.setZero();
+  const double cutoff = model.cutoff_distance();
+  const double cutoff2 = cutoff * cutoff;
+  {
+    const Vec3 amin = a0.cwiseMin(a1), amax = a0.cwiseMax(a1);
+    const Vec3 bmin = b0.cwiseMin(b1), bmax = b0.cwiseMax(b1);
+    const Vec3 gap = (bmin - amax).cwiseMax(amin - bmax).cwiseMax(0.0);
+    if (gap.squaredNorm() >= cutoff2) return true;
+  }
+  static constexpr std::array<double, 3> s{0.0, 0.5, 1.0};
+  static constexpr std::array<double, 3> w{1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};
+  const std::array<Vec3, 3> xa{a0, 0.5 * (a0 + a1), a1};
+  const std::array<Vec3, 3> xb{b0, 0.5 * (b0 + b1), b1};
+  const double rest_area = rest_length_a * rest_length_b;
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t j = 0; j < 3; ++j) {
+      const Vec3 d = xa[i] - xb[j];
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= cutoff2) continue;
+      const double dist = std::sqrt(dist2);
+      if (!(dist > 0.0)) return false;
+      const double omega = w[i] * w[j] * rest_area;
+      const BarrierSensitivity soft = model.kc1 != 0.0 ? barrier_sensitivity(dist, model.kc1, model.r1) : BarrierSensitivity{};
+      const BarrierSensitivity stiff = model.kc2 != 0.0 ? barrier_sensitivity(dist, model.kc2, model.r2) : BarrierSensitivity{};
+      const Vec<4> de(soft.e_kc, soft.e_r, stiff.e_kc, stiff.e_r);
+      const Vec<4> dde(soft.de_kc, soft.de_r, stiff.de_kc, stiff.de_r);
+      d_energy += omega * de;
+      const std::array<double, 4> c{1.0 - s[i], s[i], s[j] - 1.0, -s[j]};
+      const Vec3 dh = d / dist;
+      for (std::size_t k = 0; k < 4; ++k) {
+        if (c[k] == 0.0) continue;
+        d_gradient.block<3, 4>(block_offset(k), 0) += (omega * c[k]) * dh * dde.transpose();
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace yarnfit::yarn
+

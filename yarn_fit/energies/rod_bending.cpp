@@ -128,4 +128,13 @@ double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double re
   return value;
 }
 
+bool bending_element_sensitivity(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
+                                 double rest_length_b, double rest_curvature, double& d_energy, Vec<9>& d_gradient) {
+  // W = kb · (the element at kb = 1).
+  d_energy = bending_element(x0, x1, x2, rest_length_a, rest_length_b, rest_curvature, RodBending{1.0}, &d_gradient,
+                             nullptr, false);
+  return std::isfinite(d_energy);
+}
+
 }  // namespace yarnfit::yarn
+

@@ -12,6 +12,7 @@ namespace yarnfit::yarn {
 class YarnBendingTerm final : public PeriodicTerm<YarnBendingTerm, 3> {
  public:
   static constexpr bool zero_energy_is_inactive = false;
+  static constexpr std::array<YarnParam, 1> sensitivity_params{YarnParam::kb};
 
   YarnBendingTerm(const YarnTile& tile, const TilePlacement& placement, const YarnParams& params)
       : PeriodicTerm(tile, placement) {
@@ -31,6 +32,16 @@ class YarnBendingTerm final : public PeriodicTerm<YarnBendingTerm, 3> {
     const double la = tile().edges[static_cast<std::size_t>(c.edge_in)].rest_length;
     const double lb = tile().edges[static_cast<std::size_t>(c.edge_out)].rest_length;
     return bending_element(x[0], x[1], x[2], la, lb, c.rest_curvature, m_model, gradient, hessian, project_psd);
+  }
+  bool element_sensitivity(int e, const std::array<Eigen::Vector3d, 3>& x, Vec<1>& d_energy,
+                           Eigen::Matrix<double, 9, 1>& d_gradient) const {
+    const TileCorner& c = tile().corners[static_cast<std::size_t>(e)];
+    const double la = tile().edges[static_cast<std::size_t>(c.edge_in)].rest_length;
+    const double lb = tile().edges[static_cast<std::size_t>(c.edge_out)].rest_length;
+    Vec<9> dg;
+    const bool ok = bending_element_sensitivity(x[0], x[1], x[2], la, lb, c.rest_curvature, d_energy[0], dg);
+    d_gradient = dg;
+    return ok;
   }
 
  private:

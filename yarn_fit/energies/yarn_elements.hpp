@@ -111,4 +111,25 @@ double contact_element(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec
                        const TwoBarrierContact& model, Vec<12>* gradient, Mat<12>* hessian,
                        bool project_psd);
 
+// ---------------------------------------------------------------------------------------
+// Parameter derivatives (the fit's sensitivities, thesis 6.5.3 with exact Jacobians): at fixed
+// positions, ∂W/∂θ and ∂(∇ₓW)/∂θ for the parameters θ an element depends on, in the DOF order
+// of the element above. Each returns false where the element itself is undefined (+inf);
+// outputs are overwritten.
+
+// θ = (ks1, ε̄s, ks2). w is piecewise in ε, so these are the derivatives of the branch ε lies
+// in (∂w'/∂ε̄s jumps from 0 to ks1 − ks2 at ε = ε̄s, as w'' does).
+bool stretch_element_sensitivity(const Vec3& x0, const Vec3& x1, double rest_length, const BiphasicStretch& model,
+                                 Vec<3>& d_energy, Eigen::Matrix<double, 6, 3>& d_gradient);
+
+// θ = (kb): W is linear in kb.
+bool bending_element_sensitivity(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
+                                 double rest_length_b, double rest_curvature, double& d_energy, Vec<9>& d_gradient);
+
+// θ = (kc1, R1, kc2, R2). With x = D/2R, ∂e/∂R = −kc g'(x) x/R and
+// ∂e'/∂R = −kc (x g''(x) + g'(x)) / (2R²), e' = de/dD.
+bool contact_element_sensitivity(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
+                                 double rest_length_a, double rest_length_b, const TwoBarrierContact& model,
+                                 Vec<4>& d_energy, Eigen::Matrix<double, 12, 4>& d_gradient);
+
 }  // namespace yarnfit::yarn

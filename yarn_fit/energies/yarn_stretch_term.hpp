@@ -11,6 +11,7 @@ namespace yarnfit::yarn {
 class YarnStretchTerm final : public PeriodicTerm<YarnStretchTerm, 2> {
  public:
   static constexpr bool zero_energy_is_inactive = false;
+  static constexpr std::array<YarnParam, 3> sensitivity_params{YarnParam::ks1, YarnParam::eps_s, YarnParam::ks2};
 
   YarnStretchTerm(const YarnTile& tile, const TilePlacement& placement, const YarnParams& params)
       : PeriodicTerm(tile, placement) {
@@ -28,6 +29,11 @@ class YarnStretchTerm final : public PeriodicTerm<YarnStretchTerm, 2> {
                           bool project_psd) const {
     return stretch_element(x[0], x[1], tile().edges[static_cast<std::size_t>(e)].rest_length, m_model, gradient,
                            hessian, project_psd);
+  }
+  bool element_sensitivity(int e, const std::array<Eigen::Vector3d, 2>& x, Vec<3>& d_energy,
+                           Eigen::Matrix<double, 6, 3>& d_gradient) const {
+    return stretch_element_sensitivity(x[0], x[1], tile().edges[static_cast<std::size_t>(e)].rest_length, m_model,
+                                       d_energy, d_gradient);
   }
 
  private:

@@ -22,6 +22,45 @@ std::optional<std::string> YarnParams::invalid_reason() const {
   return std::nullopt;
 }
 
+const char* to_string(YarnParam p) {
+  switch (p) {
+    case YarnParam::ks1: return "ks1";
+    case YarnParam::eps_s: return "eps_s";
+    case YarnParam::kb: return "kb";
+    case YarnParam::r1: return "R1";
+    case YarnParam::kc1: return "kc1";
+    case YarnParam::ks2: return "ks2";
+    case YarnParam::kc2: return "kc2";
+    case YarnParam::r2: return "R2";
+  }
+  return "unknown";
+}
+
+std::optional<YarnParam> yarn_param_from_string(std::string_view name) {
+  for (const YarnParam p : kAllYarnParams)
+    if (name == to_string(p)) return p;
+  return std::nullopt;
+}
+
+namespace {
+double YarnParams::*field_of(YarnParam p) {
+  switch (p) {
+    case YarnParam::ks1: return &YarnParams::ks1;
+    case YarnParam::eps_s: return &YarnParams::eps_s;
+    case YarnParam::kb: return &YarnParams::kb;
+    case YarnParam::r1: return &YarnParams::r1;
+    case YarnParam::kc1: return &YarnParams::kc1;
+    case YarnParam::ks2: return &YarnParams::ks2;
+    case YarnParam::kc2: return &YarnParams::kc2;
+    case YarnParam::r2: return &YarnParams::r2;
+  }
+  return &YarnParams::ks1;
+}
+}  // namespace
+
+double get(const YarnParams& params, YarnParam p) { return params.*field_of(p); }
+void set(YarnParams& params, YarnParam p, double value) { params.*field_of(p) = value; }
+
 YarnParams default_params(const ParameterScales& scales) {
   YarnParams p;
   p.ks2 = scales.ks2;

@@ -7,9 +7,11 @@
 // states kc bounds without units; SPEC §3 makes them relative to ks2 / R_est so one set of
 // bounds serves thin and thick yarns (see ParameterScales).
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -31,6 +33,17 @@ struct YarnParams {
   // > 0, ε̄s ≥ 0, ks1 ≤ ks2, R2 < R1); otherwise the first violated rule, naming the key.
   [[nodiscard]] std::optional<std::string> invalid_reason() const;
 };
+
+// One field of YarnParams, for derivatives with respect to the parameters (the fit's
+// sensitivities) and for choosing which ones a fit frees. Names are the JSON keys.
+enum class YarnParam { ks1, eps_s, kb, r1, kc1, ks2, kc2, r2 };
+inline constexpr std::array<YarnParam, 8> kAllYarnParams{YarnParam::ks1, YarnParam::eps_s, YarnParam::kb,
+                                                          YarnParam::r1,  YarnParam::kc1,   YarnParam::ks2,
+                                                          YarnParam::kc2, YarnParam::r2};
+[[nodiscard]] const char* to_string(YarnParam p);  // "ks1", "eps_s", "kb", "R1", "kc1", "ks2", "kc2", "R2"
+[[nodiscard]] std::optional<YarnParam> yarn_param_from_string(std::string_view name);
+[[nodiscard]] double get(const YarnParams& params, YarnParam p);
+void set(YarnParams& params, YarnParam p, double value);
 
 // The scales that anchor defaults and bounds (SPEC §3).
 struct ParameterScales {

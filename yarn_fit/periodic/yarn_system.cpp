@@ -151,6 +151,19 @@ Eigen::Matrix2d YarnSystem::coarse_stress(const Eigen::VectorXd& g) const {
   return p / area();
 }
 
+ParameterDerivatives YarnSystem::parameter_derivatives(const Eigen::VectorXd& g,
+                                                      std::span<const YarnParam> wanted) const {
+  ParameterDerivatives out(dof_count(), static_cast<int>(wanted.size()));
+  for (const auto& term : m_terms) term->add_parameter_derivatives(g, wanted, out);
+  return out;
+}
+
+AffineDerivatives YarnSystem::affine_derivatives(const Eigen::VectorXd& g) const {
+  AffineDerivatives out(dof_count());
+  for (const auto& term : m_terms) term->add_affine_derivatives(g, out);
+  return out;
+}
+
 double YarnSystem::energy_with(const Eigen::VectorXd& g, const CoarseDeformation& chi) const {
   YarnSystem copy = *this;
   copy.set_deformation(chi);

@@ -26,9 +26,11 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "numerics/linear/shifted_ldlt.hpp"
 #include "numerics/terms/scene.hpp"
 #include "yarn_fit/contact/contact_candidates.hpp"
 #include "yarn_fit/contact/contact_term.hpp"
@@ -100,8 +102,20 @@ class YarnSystem {
   enum class Coordinate { stretch, compression, curvature };
   [[nodiscard]] double d_energy_density(const Eigen::VectorXd& g, Coordinate q) const;
 
+  // Derivatives at fixed g for the fit's sensitivities (homogenise/sensitivity.hpp): with
+  // respect to the parameters `wanted` (column k for wanted[k]), and, for κ = 0 only, to the
+  // coarse deformation gradient F (yarn_term.hpp).
+  [[nodiscard]] ParameterDerivatives parameter_derivatives(const Eigen::VectorXd& g,
+                                                           std::span<const YarnParam> wanted) const;
+  [[nodiscard]] AffineDerivatives affine_derivatives(const Eigen::VectorXd& g) const;
+
   // Constraint rows C (g-space), dense: 3 + number of pinned yarns.
   [[nodiscard]] const Eigen::MatrixXd& constraints() const { return m_constraints; }
+
+  // The factorisation the equilibrium solves of this system keep between them (its symbolic
+  // analysis and triplet slots, shifted_ldlt.hpp; after a solve it holds the last one). A
+  // copy of the system starts with a fresh one, so copies can solve in parallel.
+  [[nodiscard]] numerics::ShiftedLdlt& factorisation() const { return *m_factorisation; }
 
   // Contact candidates (Verlet list); without a contact term the list stays empty.
   void rebuild_contacts(const Eigen::VectorXd& g);
@@ -132,6 +146,7 @@ class YarnSystem {
   std::vector<std::unique_ptr<YarnTerm>> m_terms;
   numerics::TermList m_term_list;
   const ContactTerm* m_contact = nullptr;  // the contact term when listed
+  std::unique_ptr<numerics::ShiftedLdlt> m_factorisation = std::make_unique<numerics::ShiftedLdlt>();
 };
 
 }  // namespace yarnfit::yarn

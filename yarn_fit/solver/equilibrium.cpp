@@ -123,7 +123,7 @@ EquilibriumResult solve_equilibrium(YarnSystem& system, Eigen::VectorXd& g, cons
   EquilibriumProblem problem(system, step_cap);
   EquilibriumResult result;
   static_cast<numerics::NewtonSummary&>(result) =
-      numerics::solve_newton(problem, g, equilibrium_newton_options(system, options));
+      numerics::solve_newton(problem, g, equilibrium_newton_options(system, options), &system.factorisation());
   result.contact_rebuilds = problem.rebuilds();
   result.constraint_violation = (system.constraints() * g).lpNorm<Eigen::Infinity>();
   result.min_contact_distance = system.min_contact_distance(g);

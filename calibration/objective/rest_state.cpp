@@ -1,0 +1,34 @@
+#include "calibration/objective/rest_state.hpp"
+
+#include <chrono>
+
+namespace yarnfit::calibration {
+
+RestState relax_rest_state(const yarn::YarnTile& tile, const yarn::YarnParams& params, const RestStateOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  RestState out;
+  out.params = params;
+  const auto finish = [&](std::string message) {
+    out.ok = message.empty();
+    out.message = std::move(message);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  };
+  if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
+  out.system.emplace(tile, params);
+  yarn::YarnSystem& system = *out.system;
+  out.g = Eigen::VectorXd::Zero(system.dof_count());
+  if (options.rest_shape) {
+    out.rest = relax_rest_shape(system, out.g, options.rest);
+    out.newton_iterations += out.rest.newton_iterations;
+    if (!out.rest.converged) return finish("rest-shape heuristic did not converge: " + out.rest.last_solve.message);
+  }
+  if (options.rest_period) {
+    out.period = yarn::relax_rest_period(system, out.g, options.period);
+    out.newton_iterations += out.period.newton_iterations;
+    if (!out.period.converged) return finish("rest period did not converge: " + out.period.message);
+  }
+  return finish({});
+}
+
+}  // namespace yarnfit::calibration

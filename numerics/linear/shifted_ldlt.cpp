@@ -1,0 +1,115 @@
+#include "numerics/linear/shifted_ldlt.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace yarnfit::numerics {
+
+void ShiftedLdlt::assemble(int n, Triplets& lower) {
+  for (int i = 0; i < n; ++i) lower.emplace_back(i, i, 0.0);
+  if (n == m_n && same_triplet_sequence(lower)) {
+    // The same (row, column) sequence as last time: scatter the values into the known slots,
+    // first occurrence assigned and later ones added in triplet order, as setFromTriplets does.
+    double* values = m_matrix.valuePtr();
+    for (std::size_t k = 0; k < lower.size(); ++k) {
+      const int slot = m_triplet_slot[k];
+      if (slot < 0) values[-slot - 1] = lower[k].value();
+      else values[slot] += lower[k].value();
+    }
+    ++m_scattered;
+  } else {
+    m_n = n;
+    m_matrix.resize(n, n);
+    m_matrix.setFromTriplets(lower.begin(), lower.end());
+    remember_triplet_slots(lower);
+  }
+  m_base.assign(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros());
+  // Sorted column-major lower triangle: each column's diagonal is its first entry.
+  double sum = 0.0;
+  for (int j = 0; j < n; ++j) sum += std::abs(m_base[static_cast<std::size_t>(m_matrix.outerIndexPtr()[j])]);
+  m_scale = n > 0 ? sum / n : 1.0;
+  if (!(m_scale > 0.0)) m_scale = 1.0;  // an all-zero diagonal: shifts relative to 1
+}
+
+bool ShiftedLdlt::same_triplet_sequence(const Triplets& lower) const {
+  if (lower.size() != m_triplet_rows.size()) return false;
+  for (std::size_t k = 0; k < lower.size(); ++k)
+    if (lower[k].row() != m_triplet_rows[k] || lower[k].col() != m_triplet_cols[k]) return false;
+  return true;
+}
+
+void ShiftedLdlt::remember_triplet_slots(const Triplets& lower) {
+  const std::size_t count = lower.size();
+  m_triplet_rows.resize(count);
+  m_triplet_cols.resize(count);
+  m_triplet_slot.resize(count);
+  std::vector<char> seen(static_cast<std::size_t>(m_matrix.nonZeros()), 0);
+  const int* outer = m_matrix.outerIndexPtr();
+  const int* inner = m_matrix.innerIndexPtr();
+  for (std::size_t k = 0; k < count; ++k) {
+    const int r = lower[k].row(), c = lower[k].col();
+    m_triplet_rows[k] = r;
+    m_triplet_cols[k] = c;
+    const int* at = std::lower_bound(inner + outer[c], inner + outer[c + 1], r);
+    const int slot = static_cast<int>(at - inner);
+    // Encoded as −slot − 1 for the slot's first triplet (assigned), slot for the others (added).
+    m_triplet_slot[k] = seen[static_cast<std::size_t>(slot)] ? slot : -slot - 1;
+    seen[static_cast<std::size_t>(slot)] = 1;
+  }
+}
+
+double ShiftedLdlt::relative_min_diagonal() const {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < m_n; ++j) lowest = std::min(lowest, m_base[static_cast<std::size_t>(m_matrix.outerIndexPtr()[j])]);
+  return lowest / m_scale;
+}
+
+bool ShiftedLdlt::same_pattern() const {
+  return !m_outer.empty() && m_outer.size() == static_cast<std::size_t>(m_n + 1) &&
+         m_inner.size() == static_cast<std::size_t>(m_matrix.nonZeros()) &&
+         std::equal(m_outer.begin(), m_outer.end(), m_matrix.outerIndexPtr()) &&
+         std::equal(m_inner.begin(), m_inner.end(), m_matrix.innerIndexPtr());
+}
+
+bool ShiftedLdlt::factorise(double shift) {
+  double* values = m_matrix.valuePtr();
+  std::copy(m_base.begin(), m_base.end(), values);
+  const double alpha = shift * m_scale;
+  for (int j = 0; j < m_n; ++j) values[m_matrix.outerIndexPtr()[j]] += alpha;
+  if (!same_pattern()) {
+    m_solver.analyzePattern(m_matrix);
+    m_outer.assign(m_matrix.outerIndexPtr(), m_matrix.outerIndexPtr() + m_n + 1);
+    m_inner.assign(m_matrix.innerIndexPtr(), m_matrix.innerIndexPtr() + m_matrix.nonZeros());
+    ++m_analyses;
+  }
+  m_solver.factorize(m_matrix);
+  if (m_solver.info() != Eigen::Success) return false;
+  // A positive D makes LDLᵀ positive definite, so the solve gives a descent direction.
+  return m_n == 0 || m_solver.vectorD().minCoeff() > 0.0;
+}
+
+Eigen::MatrixXd solve_constrained(const ShiftedLdlt& k, const Eigen::MatrixXd* c, const Eigen::LDLT<Eigen::MatrixXd>* cct,
+                                  const Eigen::MatrixXd& rhs) {
+  Eigen::MatrixXd z = k.solve(rhs);
+  if (c == nullptr || c->rows() == 0) return z;
+  const Eigen::MatrixXd y = k.solve(Eigen::MatrixXd(c->transpose()));
+  const Eigen::MatrixXd schur = *c * y;
+  z -= y * schur.ldlt().solve(*c * z);
+  // Keep Z exactly feasible: remove the round-off part of C Z.
+  if (cct != nullptr) z -= c->transpose() * cct->solve(*c * z);
+  return z;
+}
+
+ConstrainedSolver::ConstrainedSolver(const ShiftedLdlt& k, const Eigen::MatrixXd& c)
+    : m_k(k), m_c(c), m_y(k.solve(Eigen::MatrixXd(c.transpose()))), m_schur(c * m_y), m_cct(c * c.transpose()) {}
+
+Eigen::MatrixXd ConstrainedSolver::solve(const Eigen::MatrixXd& rhs) const {
+  Eigen::MatrixXd z = m_k.solve(rhs);
+  if (m_c.rows() == 0) return z;
+  z -= m_y * m_schur.solve(m_c * z);
+  z -= m_c.transpose() * m_cct.solve(m_c * z);
+  return z;
+}
+
+}  // namespace yarnfit::numerics

@@ -1,0 +1,63 @@
+// The exact residual Jacobian of the yarn objective (issue 33; jacobian_check.hpp) against
+// central differences of the residuals on the stockinette tile, in a smooth case: every yarn
+// in the soft phase (ε̄s beyond the yarns' strains), weft and bias (the warp is slack across at
+// rest), tight solves and a narrow band; and the residual vector and Jacobian line up with
+// the objective's value.
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "calibration/objective/jacobian_check.hpp"
+#include "tests/calibration/stockinette_case.hpp"
+#include "tests/test_support.hpp"
+
+namespace yarnfit::calibration {
+namespace {
+
+TEST(ResidualJacobian, MatchesCentralDifferencesInASmoothCase) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const testcase::Stockinette st = testcase::load_stockinette();
+  yarn::YarnParams truth = st.soft_toe_params();
+  truth.eps_s = 0.05;  // beyond every yarn strain up to 20 % stretch: no kink of the biphasic law
+  const auto targets = st.synthesise(truth, {db::Direction::weft, db::Direction::bias}, 0.2, 5).targets;
+  ObjectiveOptions o;
+  o.samples = 3;
+  o.compression_stress_fraction = 1e-8;
+  o.compression.tolerance = 1e-10;
+  o.solve.force_tolerance = 1e-12 * st.scales.ks2;
+  o.solve.stress_tolerance = 0.0;
+  o.solve.loose_tolerance = 1e-300;
+  o.solve.max_iterations = 1000;
+  const YarnObjective objective(st.yarn_tile(), targets, o);
+  // Off the truth, so that the residuals are not zero.
+  yarn::YarnParams at = truth;
+  at.kb *= 1.3;
+  at.kc1 *= 0.8;
+  const RestState rest = objective.rest_state(at);
+  ASSERT_TRUE(rest.ok) << rest.message;
+  const std::vector<yarn::YarnParam> wanted{yarn::YarnParam::ks1, yarn::YarnParam::kb, yarn::YarnParam::r1,
+                                            yarn::YarnParam::kc1};
+  AtRestOptions with;
+  with.wanted = wanted;
+  const ObjectiveResult r = objective.evaluate_at_rest(rest, at, with);
+  ASSERT_TRUE(r.ok) << r.message;
+  const Eigen::VectorXd res = residual_vector(r);
+  EXPECT_NEAR(res.squaredNorm(), r.value, 1e-12 * r.value);
+  const Eigen::MatrixXd j = residual_jacobian(r);
+  EXPECT_EQ(j.rows(), res.size());
+  EXPECT_EQ(j.cols(), 4);
+  EXPECT_EQ(r.held_compressions, 0);
+
+  const JacobianCheck c = check_residual_jacobian(objective, rest, at, wanted);
+  ASSERT_TRUE(c.ok) << c.message;
+  for (const auto& col : c.columns) {
+    std::cout << "[ jacobian ] " << yarn::to_string(col.param) << ": |dr/dlog p| " << col.column_norm
+              << ", relative error " << col.relative_error << " at step " << col.step << "\n";
+    EXPECT_GT(col.column_norm, 0.0) << yarn::to_string(col.param);
+  }
+  EXPECT_LE(c.worst, 1e-4);
+}
+
+}  // namespace
+}  // namespace yarnfit::calibration

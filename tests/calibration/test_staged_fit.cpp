@@ -1,0 +1,125 @@
+// The fit of issue 33 end to end on small settings: the staged search and the Gauss–Newton
+// alternation give bitwise the same result on 1 and 2 threads, and a fit stopped after any
+// stage (or between its local runs) and resumed from its checkpoint ends bitwise where the
+// uninterrupted fit does; the checkpoint holds what it says.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "calibration/fit/fit_checkpoint.hpp"
+#include "calibration/fit/yarn_calibration.hpp"
+#include "tests/calibration/stockinette_case.hpp"
+#include "tests/test_support.hpp"
+
+namespace yarnfit::calibration {
+namespace {
+
+// Staged search and local step small enough for a test (2 samples per direction, weft only).
+YarnFitSettings tiny_fit(int threads) {
+  YarnFitSettings s;
+  s.staged.contact = {4, 2, 2, 6};
+  s.staged.all = {4, 2, 2, 6};
+  s.staged.rescored = 3;
+  s.staged.starts = 2;
+  s.local_samples = 3;
+  s.alternation.max_rounds = 2;
+  s.alternation.iterations_per_round = 2;
+  s.bending_points = 0;
+  s.threads = threads;
+  return s;
+}
+
+struct Case {
+  testcase::Stockinette st;
+  std::vector<db::DirectionTargets> targets;
+};
+
+const Case& stockinette_case() {
+  static const Case c = [] {
+    Case k{testcase::load_stockinette(), {}};
+    k.targets = k.st.synthesise(k.st.soft_toe_params(), {db::Direction::weft}, 0.15, 4).targets;
+    return k;
+  }();
+  return c;
+}
+
+void expect_same_fit(const YarnFitResult& a, const YarnFitResult& b, const std::string& label) {
+  ASSERT_TRUE(a.ok && b.ok) << label << ": " << a.message << b.message;
+  for (const double yarn::YarnParams::*field : {&yarn::YarnParams::ks1, &yarn::YarnParams::eps_s,
+                                                &yarn::YarnParams::kb, &yarn::YarnParams::r1, &yarn::YarnParams::kc1})
+    EXPECT_EQ(a.params.*field, b.params.*field) << label;
+  EXPECT_EQ(a.final.value, b.final.value) << label;
+  ASSERT_EQ(a.global.size(), b.global.size()) << label;
+  for (std::size_t i = 0; i < a.global.size(); ++i) EXPECT_EQ(a.global[i].best, b.global[i].best) << label;
+  ASSERT_EQ(a.local_runs.size(), b.local_runs.size()) << label;
+  for (std::size_t i = 0; i < a.local_runs.size(); ++i) {
+    EXPECT_EQ(a.local_runs[i].best_value, b.local_runs[i].best_value) << label << ", run " << i;
+    EXPECT_EQ(a.local_runs[i].alternation.rounds.size(), b.local_runs[i].alternation.rounds.size()) << label;
+  }
+  EXPECT_EQ(a.profile.g_fit, b.profile.g_fit) << label;
+}
+
+TEST(StagedFit, OneAndTwoThreadsGiveTheSameBits) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const Case& c = stockinette_case();
+  const YarnFitResult one = fit_yarn_params(c.st.yarn_tile(), c.targets, c.st.scales, tiny_fit(1));
+  const YarnFitResult two = fit_yarn_params(c.st.yarn_tile(), c.targets, c.st.scales, tiny_fit(2));
+  expect_same_fit(one, two, "1 vs 2 threads");
+  // The stages ran as asked: contact, all, rescore; two local runs with their rounds.
+  ASSERT_EQ(two.global.size(), 3u);
+  EXPECT_EQ(two.global[0].name, "contact");
+  EXPECT_EQ(two.global[0].evaluations, 8);
+  EXPECT_EQ(two.global[1].name, "all");
+  EXPECT_EQ(two.global[2].name, "rescore");
+  ASSERT_EQ(two.local_runs.size(), 2u);
+  for (const auto& run : two.local_runs) {
+    EXPECT_EQ(run.method, LocalMethod::gauss_newton);
+    EXPECT_FALSE(run.alternation.rounds.empty());
+    EXPECT_LE(run.best_value, run.start_value);
+  }
+  EXPECT_TRUE(two.profile.computed && two.profile.from_jacobian) << two.profile.message;
+  std::cout << "[ staged   ] g " << two.final.value << " after " << two.evaluations << " evaluations, "
+            << two.seconds_total << " s; local: " << two.local.report << "\n";
+}
+
+// keep_going answers true `allowed` times, then false: the fit stops at the next poll (after
+// a swarm iteration, before a local run).
+std::function<bool()> stop_after(int allowed) {
+  auto count = std::make_shared<int>(0);
+  return [count, allowed] { return (*count)++ < allowed; };
+}
+
+TEST(StagedFit, StoppedAfterAnyStageResumesToTheSameBits) {
+  YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
+  const Case& c = stockinette_case();
+  // One thread: the local runs then go one after the other, so that a stop can fall between them.
+  const YarnFitResult whole = fit_yarn_params(c.st.yarn_tile(), c.targets, c.st.scales, tiny_fit(1));
+  ASSERT_TRUE(whole.ok) << whole.message;
+  // Polls: contact iterations 1–2, all iterations 3–4, then one before each local run (5, 6).
+  for (const int allowed : {0, 2, 4, 5}) {  // inside contact, inside all, before the local runs, between them
+    const testing::ScratchDir dir("staged_resume");
+    YarnFitSettings s = tiny_fit(1);
+    s.checkpoint = dir / "fit.json";
+    s.keep_going = stop_after(allowed);
+    const YarnFitResult stopped = fit_yarn_params(c.st.yarn_tile(), c.targets, c.st.scales, s);
+    EXPECT_TRUE(stopped.stopped) << "allowed " << allowed;
+    EXPECT_FALSE(stopped.ok);
+    if (allowed >= 4) {  // the staged search finished: its rescore is in the checkpoint
+      const FitCheckpoint cp = read_fit_checkpoint(s.checkpoint);
+      ASSERT_TRUE(cp.rescored.has_value());
+      EXPECT_EQ(cp.rescored->front().point, whole.local_runs.front().start_point);
+      // Written with the first local run that finished.
+      ASSERT_EQ(cp.local.size(), allowed >= 5 ? 2u : 0u);
+      if (allowed >= 5) EXPECT_TRUE(cp.local[0].has_value() && !cp.local[1].has_value());
+    }
+    s.keep_going = {};
+    s.resume = true;
+    const YarnFitResult resumed = fit_yarn_params(c.st.yarn_tile(), c.targets, c.st.scales, s);
+    expect_same_fit(whole, resumed, "stopped after " + std::to_string(allowed) + " polls");
+  }
+}
+
+}  // namespace
+}  // namespace yarnfit::calibration
