@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "calibration/fit/fit_checkpoint.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "pipeline/outputs.hpp"
@@ -38,7 +39,7 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   o.yarn.checkpoint = swarm_checkpoint_file(out);
   o.tile_cache = options.out / "tiles";  // shared: fabrics of one knit and scale reuse one tile
   o.yarn.resume = spec.resume && fs::exists(o.yarn.checkpoint);
-  if (!o.yarn.resume) fs::remove(o.yarn.checkpoint);
+  if (!o.yarn.resume) calibration::remove_fit_checkpoint(o.yarn.checkpoint);
   if (stage) {
     stage("shell");
     o.shell.progress = [&stage](const reports::Progress& p) { stage("shell " + step_text(p)); };

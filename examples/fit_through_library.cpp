@@ -6,12 +6,13 @@
 //
 // FABRIC_FOLDER defaults to the bundled example (examples/fabrics/stockinette_demo). The yarn
 // fit runs with a tiny swarm so that the program ends in well under a minute; its errors are
-// those of a rough fit (the README's example uses 16 particles x 6 iterations).
+// those of a rough fit (the README's example runs the quick and default budgets).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
+#include "calibration/fit/budget.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
 
@@ -37,12 +38,12 @@ int main(int argc, char** argv) {
 
   pipeline::PipelineOptions options;
   options.shell.threads = 2;
-  options.yarn.particles = 4;  // the SPEC default is 64 particles x 10 iterations
-  options.yarn.iterations = 2;
-  options.yarn.swarm_samples = 3;
+  // The smallest named search (budget.hpp), smaller still: the default budget is the one to trust.
+  calibration::apply_budget(calibration::Budget::quick, options.yarn);
+  options.yarn.staged.contact = {4, 2, 3, 6};
+  options.yarn.staged.all = {4, 2, 3, 6};
   options.yarn.local_samples = 4;
-  options.yarn.local_evaluations = 4;
-  options.yarn.profile_step = 0.0;  // no identifiability profile
+  options.yarn.alternation.max_rounds = 2;
   options.yarn.threads = 2;
 
   // Everything that could refuse the run is checked before any simulation.

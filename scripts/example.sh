@@ -2,9 +2,10 @@
 # README command 1: install dependencies, build in Release, run the main job on the bundled
 # example database (examples/fabrics: three fabrics in two families, made by the project):
 # validate and list it, then `yarnfit batch` runs the whole pipeline on every fabric (shell
-# fit to the stretch and pear-loop tests, uniform targets, yarn-level fit with a small swarm
-# so that it finishes in a minute or two on 2 cores) and writes the HTML report; the shell
-# fits are compared with the parameters the examples were simulated from.
+# fit to the stretch and pear-loop tests, uniform targets, yarn-level fit with the quick
+# budget), once more on one fabric with the default budget, and `yarnfit report` compares the
+# two runs (what accuracy costs); the shell fits are compared with the parameters the examples
+# were simulated from.
 set -euo pipefail
 # OpenMP threads spin while waiting by default; on a 2-core machine with other work running
 # that slows the parallel energy loops 3-10x. Passive waiting gives the core back.
@@ -21,18 +22,26 @@ $yarnfit db list "$db"
 $yarnfit db show "$db/stockinette_demo"
 
 echo
-# A small swarm (16 particles x 6 iterations, 5 samples per direction) and a short local step
-# keep the batch to a minute or two on 2 cores (71 s measured for the three fabrics); the
-# defaults (64 x 10, 7 and 20 samples, 150 local evaluations) are for real calibrations.
-fit_settings=(--particles 16 --iterations 6 --samples 5 --local-samples 12 --local-evaluations 40)
+# The yarn stage's search comes in named budgets (quick, default, thorough: calibration/fit/
+# budget.hpp). Every fabric is fitted with the quick budget, and the first one again with the
+# default budget; the report over both runs shows, in "What accuracy costs", what the larger
+# search bought and what it cost.
+quick="$out/budget-quick"
+default="$out/budget-default"
 rm -rf "$out"  # the example's own output folder: a fresh run each time
-echo "== yarnfit batch $db --out $out ${fit_settings[*]}"
-$yarnfit batch "$db" --out "$out" "${fit_settings[@]}"
+echo "== yarnfit batch $db --out $quick --budget quick"
+$yarnfit batch "$db" --out "$quick" --budget quick
 echo
-$yarnfit batch status "$out"
-python3 - "$db" "$out" <<'EOF'
+echo "== yarnfit batch $db --out $default --budget default --only stockinette_demo"
+$yarnfit batch "$db" --out "$default" --budget default --only stockinette_demo
+echo
+$yarnfit batch status "$quick"
+echo
+echo "== yarnfit report $quick $default --out $out/report"
+$yarnfit report "$quick" "$default" --out "$out/report"
+python3 - "$db" "$quick" "$default" "$out" <<'EOF'
 import json, os, subprocess, sys
-db, out = sys.argv[1], sys.argv[2]
+db, out, default, top = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 yarnfit = "./build-release/cli/yarnfit"
 keys = ["kxx", "kxy", "kyy", "kss", "kn1", "kn2", "ktheta_weft", "ktheta_bias", "ktheta_warp"]
 for fabric in sorted(os.listdir(os.path.join(out, "fabrics"))):
@@ -59,11 +68,17 @@ for fabric in sorted(os.listdir(os.path.join(out, "fabrics"))):
     weak = fit.get("weakly_identified") or []
     if weak:
         print("  weakly identified (the tests pin them only loosely): " + ", ".join(weak))
-    y = json.load(open(os.path.join(folder, "yarn_fit.json")))["errors"]
-    print(f"  yarn errors (vs the uniform targets): stress comfort range {y['stress_comfort_pct']:.1f} %, "
-          f"full range {y['stress_full_pct']:.1f} %, compression {y['compression_pct']:.1f} %")
+    for label, run in (("quick", out), ("default", default)):
+        path = os.path.join(run, "fabrics", fabric, "yarn_fit.json")
+        if not os.path.exists(path):
+            continue
+        y = json.load(open(path))
+        e, t = y["errors"], y["timing_s"]["total"]
+        print(f"  yarn errors, {label} budget (vs the uniform targets): stress comfort range "
+              f"{e['stress_comfort_pct']:.1f} %, full range {e['stress_full_pct']:.1f} %, compression "
+              f"{e['compression_pct']:.1f} %; yarn fit {t:.0f} s")
 print(f"\nper fabric: {out}/fabrics/<id>/ (shell_fit.json, uniform_targets.csv, yarn_fit.json, summary.txt, ...)")
 print(f"ledger:     {out}/batch.db (sqlite3; schema in docs/batch.md)")
-print(f"report:     open {os.path.abspath(os.path.join(out, 'report', 'index.html'))} in a browser "
-      "(fabrics.csv, families.csv and report.json beside it)")
+print(f"report:     open {os.path.abspath(os.path.join(top, 'report', 'index.html'))} in a browser "
+      "(both runs; 'What accuracy costs' compares the budgets; fabrics.csv, families.csv and report.json beside it)")
 EOF

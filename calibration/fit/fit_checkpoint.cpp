@@ -162,4 +162,9 @@ void write_fit_checkpoint(const std::filesystem::path& file, const FitCheckpoint
   db::write_text_file_atomically(file, j.dump(1) + "\n");
 }
 
+void remove_fit_checkpoint(const std::filesystem::path& file) {
+  std::filesystem::remove(file);
+  for (const char* stage : {"contact", "all", "swarm"}) std::filesystem::remove(file.string() + "." + stage);
+}
+
 }  // namespace yarnfit::calibration

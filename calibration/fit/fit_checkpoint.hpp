@@ -30,5 +30,7 @@ struct FitCheckpoint {
 FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file);
 // Written atomically; throws std::runtime_error naming the file when it cannot be.
 void write_fit_checkpoint(const std::filesystem::path& file, const FitCheckpoint& checkpoint);
+// Removes the file and its stages' swarm checkpoints beside it (what a fit starting afresh does).
+void remove_fit_checkpoint(const std::filesystem::path& file);
 
 }  // namespace yarnfit::calibration

@@ -153,8 +153,12 @@ class FitRun {
       if (m_objectives.find(key) == m_objectives.end())
         m_objectives.emplace(key, std::make_unique<YarnObjective>(tile, targets, objective_options(key.first, key.second)));
     }
-    if (settings.resume && std::filesystem::exists(settings.checkpoint))
+    if (settings.resume && std::filesystem::exists(settings.checkpoint)) {
       m_checkpoint = read_fit_checkpoint(settings.checkpoint);
+    } else if (!settings.checkpoint.empty()) {
+      remove_fit_checkpoint(settings.checkpoint);  // a fresh fit: no stage of an older one is resumed
+      save();  // present from the start, so that a batch knows there is something to resume
+    }
   }
 
   [[nodiscard]] const swarm::ParameterSpace& space() const { return m_space; }
@@ -339,17 +343,18 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings) {
   if (const std::string why = settings.invalid_reason(); !why.empty())
     throw std::invalid_argument("yarn fit settings: " + why);
-  YarnFitResult out;
-  FitRun run(tile, targets, scales, settings);
-  out.bounds = run.space().parameters();
-  if (!settings.swarm && settings.start) {  // checked before any simulation
-    const auto outside = run.space().bounds_problems(run.start_without_search());
+  if (!settings.swarm && settings.start) {  // checked before anything else
+    const auto outside = yarn_parameter_space(scales, settings.linear_stretch)
+                             .bounds_problems(point_from_params(*settings.start, settings.linear_stretch));
     if (!outside.empty()) {
       std::string why = "yarn fit start: " + outside.front();
       for (std::size_t i = 1; i < outside.size(); ++i) why += "; " + outside[i];
       throw std::invalid_argument(why);
     }
   }
+  YarnFitResult out;
+  FitRun run(tile, targets, scales, settings);
+  out.bounds = run.space().parameters();
   const GlobalSearchResult global = run.global_step(out);
   out.stopped = global.stopped;
   if (!global.ok) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "calibration/objective/rest_state.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
 #include "reports/metrics/error_metrics.hpp"
@@ -25,12 +26,11 @@ BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<db::Dir
   if (points < 2) return finish("bending check: points must be at least 2");
   if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
 
-  yarn::YarnSystem relaxed(tile, params);
-  Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(relaxed.dof_count());
-  if (options.rest_shape) {
-    const auto rest = relax_rest_shape(relaxed, g_rest, options.rest);
-    if (!rest.converged) return finish("rest-shape heuristic did not converge: " + rest.last_solve.message);
-  }
+  // The rest state the objective relaxes for these parameters (rest_state.hpp).
+  const RestState rest = relax_rest_state(tile, params, {options.rest_shape, options.rest, options.rest_period, options.period});
+  if (!rest.ok) return finish(rest.message);
+  const yarn::YarnSystem& relaxed = *rest.system;
+  const Eigen::VectorXd& g_rest = rest.g;
   std::vector<double> per_direction;
   for (const auto& t : targets) {
     if (t.bending.size() < 2) continue;

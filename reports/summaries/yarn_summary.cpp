@@ -56,9 +56,13 @@ std::string profile_summary(const json& p) {
   }
   const double g_fit = number_or_nan(member(p, "objective"));
   const std::string f = db::format_g(1.0 + step, 3);
+  // From the Gauss–Newton step's exact Jacobian at the fit, the one-at-a-time g values are its
+  // model's; from evaluations (the other local steps), they were simulated.
+  const bool model = p.value("from", std::string()) == "jacobian";
   out << "  identifiability (g = " << db::format_g(g_fit, 3)
-      << " at the fit; range: how far a parameter moves before g doubles):\n"
-      << "    parameter  g at ÷" << f << " / ×" << f << "    range, others re-fitted   others held\n";
+      << " at the fit; range: how far a parameter moves before g doubles; "
+      << (model ? "from the exact Jacobian at the fit" : "from simulations at ÷/× " + f) << "):\n"
+      << "    parameter  g at ÷" << f << " / ×" << f << (model ? " (model)" : "") << "    range, others re-fitted   others held\n";
   std::string downhill;
   const json& entries = member(p, "parameters");
   for (const char* name : k_fitted) {
@@ -87,12 +91,26 @@ std::string settings_line(const json& s) {
   std::ostringstream out;
   const bool swarm = s.value("swarm", true);
   const int nodes = s.value("local_compression_nodes", 0);
-  out << "  settings: "
-      << (swarm ? std::to_string(s.value("particles", 0)) + " particles x " + std::to_string(s.value("iterations", 0)) +
-                      " iterations, " + std::to_string(s.value("swarm_samples", 0)) + " samples per direction; "
-                : std::string(s.contains("start") ? "no swarm, started from --start; " : "no swarm; "))
-      << "local step " << s.value("local_method", std::string("?")) << ", at most " << s.value("local_evaluations", 0)
-      << " evaluations, " << s.value("local_samples", 0) << " samples per direction; seed "
+  const json& staged = member(s, "staged");
+  const auto stage = [&](const char* name) {
+    const json& st = member(staged, name);
+    return std::to_string(st.value("particles", 0)) + " x " + std::to_string(st.value("iterations", 0)) + " on " +
+           std::to_string(st.value("samples", 0)) + " samples";
+  };
+  std::string global;
+  if (!swarm) global = s.contains("start") ? "no global search, started from --start; " : "no global search; ";
+  else if (s.value("global_method", std::string("swarm")) == "staged")
+    global = "staged search (contact " + stage("contact") + ", all " + stage("all") + ", " +
+             std::to_string(staged.value("starts", 0)) + " local starts); ";
+  else
+    global = "swarm " + std::to_string(s.value("particles", 0)) + " particles x " + std::to_string(s.value("iterations", 0)) +
+             " iterations, " + std::to_string(s.value("swarm_samples", 0)) + " samples per direction; ";
+  const std::string method = s.value("local_method", std::string("?"));
+  out << "  settings: " << global << "local step " << method
+      << (method == "gauss-newton"
+              ? " (at most " + std::to_string(member(s, "alternation").value("max_rounds", 0)) + " rounds)"
+              : ", at most " + std::to_string(s.value("local_evaluations", 0)) + " evaluations")
+      << ", " << s.value("local_samples", 0) << " samples per direction; seed "
       << s.value("seed", std::uint64_t{0}) << (s.value("linear_stretch", false) ? "; linear stretch (ks1 = ks2, eps_s = 0)" : "")
       << (s.value("rest_shape", true) ? "" : "; no rest-shape heuristic")
       << (s.value("rest_period", false) ? "; period relaxed per candidate" : "")
@@ -153,15 +171,35 @@ std::string yarn_summary(const json& r) {
   out << "  evaluations: " << r.value("evaluations", 0) << "\n";
   const json& t = member(r, "timing_s");
   const bool profiled = member(r, "identifiability").is_object() && r["identifiability"].value("computed", false);
-  out << "  time: swarm " << number_text(member(t, "swarm"), 3) << " s, local " << number_text(member(t, "local"), 3)
+  out << "  time: global " << number_text(member(t, "swarm"), 3) << " s, local " << number_text(member(t, "local"), 3)
       << " s" << (profiled ? ", profile " + number_text(member(t, "profile"), 3) + " s" : std::string()) << ", total "
       << number_text(member(t, "total"), 3) << " s\n";
-  const json& swarm = member(r, "swarm");
-  if (swarm.is_object() && !member(swarm, "history").empty())
-    out << "  swarm: " << swarm.value("report", std::string()) << "; " << swarm.value("stopped_at_cutoff", 0)
-        << " candidates stopped once they could not beat their particle's best\n";
+  const json& global = member(member(r, "global"), "stages");
+  if (global.is_array() && !global.empty()) {
+    for (const auto& st : global)
+      out << "  " << st.value("stage", std::string()) << ": "
+          << (st.value("report", std::string()).empty() ? std::to_string(st.value("evaluations", 0)) + " evaluations"
+                                                         : st.value("report", std::string()))
+          << ", best g " << number_text(member(st, "best"), 4)
+          << (st.value("stopped_at_cutoff", 0) > 0
+                  ? "; " + std::to_string(st.value("stopped_at_cutoff", 0)) +
+                        " candidates stopped once they could not beat their particle's best"
+                  : std::string())
+          << "\n";
+  } else {
+    const json& swarm = member(r, "swarm");
+    if (swarm.is_object() && !member(swarm, "history").empty())
+      out << "  swarm: " << swarm.value("report", std::string()) << "; " << swarm.value("stopped_at_cutoff", 0)
+          << " candidates stopped once they could not beat their particle's best\n";
+  }
   const json& local = member(r, "local");
-  if (local.is_object()) out << "  local: " << local.value("report", std::string()) << "\n";
+  const json& runs = member(local, "runs");
+  if (runs.is_array() && runs.size() > 1) {
+    int k = 0;
+    for (const auto& run : runs) out << "  local run " << ++k << ": " << run.value("report", std::string()) << "\n";
+  } else if (local.is_object()) {
+    out << "  local: " << local.value("report", std::string()) << "\n";
+  }
   return out.str();
 }
 

@@ -112,7 +112,9 @@ TEST(StagedFit, StoppedAfterAnyStageResumesToTheSameBits) {
       EXPECT_EQ(cp.rescored->front().point, whole.local_runs.front().start_point);
       // Written with the first local run that finished.
       ASSERT_EQ(cp.local.size(), allowed >= 5 ? 2u : 0u);
-      if (allowed >= 5) EXPECT_TRUE(cp.local[0].has_value() && !cp.local[1].has_value());
+      if (allowed >= 5) {
+        EXPECT_TRUE(cp.local[0].has_value() && !cp.local[1].has_value());
+      }
     }
     s.keep_going = {};
     s.resume = true;

@@ -16,9 +16,13 @@
 namespace yarnfit::calibration {
 namespace {
 
-// A fit small enough for a test: 2 samples per direction in both stages, 2 threads.
+// A fit small enough for a test: the thesis's single swarm with the stencil local step (the
+// staged search and the Gauss–Newton step: test_staged_fit.cpp), 2 samples per direction in
+// both stages, 2 threads.
 YarnFitSettings small_fit(int particles, int iterations, int local_evaluations) {
   YarnFitSettings s;
+  s.global_method = GlobalMethod::swarm;
+  s.local_method = LocalMethod::implicit_filtering;
   s.particles = particles;
   s.iterations = iterations;
   s.swarm_samples = 2;

@@ -19,8 +19,11 @@ using nlohmann::json;
 
 fs::path stockinette() { return shared_dir() / "data" / "patterns" / "stockinette.pyp"; }
 
+// The thesis's single swarm and the stencil local step keep the arithmetic of evaluations simple
+// (the staged search and the Gauss–Newton step are tested in tests/calibration).
 const std::string k_tiny =
-    " --particles 4 --iterations 2 --samples 3 --local-samples 4 --local-evaluations 5 --threads 2 --quiet";
+    " --global swarm --local implicit-filtering --particles 4 --iterations 2 --samples 3 --local-samples 4"
+    " --local-evaluations 5 --threads 2 --quiet";
 
 // One synthetic fabric and its targets for the whole suite (a few seconds to simulate).
 class FitCli : public ::testing::Test {
@@ -124,7 +127,7 @@ TEST_F(FitCli, YarnFitWritesTheSpecifiedJsonCurvesAndSummary) {
 
   const std::string summary = read_file(out / "yarn_summary.txt");
   for (const char* expected : {"weft", "stress comfort", "ks1", "eps_s", "kb", "R1", "kc1", "in [", "swarm", "local",
-                               "time: swarm", "c* at every sample", "stopped once they could not beat",
+                               "time: global", "c* at every sample", "stopped once they could not beat",
                                "identifiability", "before g doubles", "others re-fitted", ", profile "})
     EXPECT_NE(summary.find(expected), std::string::npos) << expected << "\n" << summary;
 }
@@ -197,11 +200,11 @@ TEST_F(FitCli, StartRefinesGivenParametersAndLocalMethodIsRecorded) {
   const json y = read_json(*s_dir / "y.yaml");
   EXPECT_EQ(a["settings"]["start"]["kb"], y["kb"]);
   const std::string summary = read_file(*s_dir / "start1" / "yarn_summary.txt");
-  EXPECT_NE(summary.find("no swarm, started from --start"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("no global search, started from --start"), std::string::npos) << summary;
   EXPECT_NE(summary.find("local step cobyla"), std::string::npos) << summary;
 
   // yarn_fit.json as the start: implicit filtering from the first fit's parameters.
-  r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start2") + few + " --start " +
+  r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start2") + few + " --local implicit-filtering --start " +
               quoted(*s_dir / "start1" / "yarn_fit.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json b = read_json(*s_dir / "start2" / "yarn_fit.json");
@@ -221,7 +224,7 @@ TEST_F(FitCli, StartRefinesGivenParametersAndLocalMethodIsRecorded) {
 
   r = run_cli(yarn_fit(fabric(), targets(), *s_dir / "start4") + few + " --local-method simplex");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--local-method"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--local: simplex: not a local method"), std::string::npos) << r.err;
 }
 
 TEST_F(FitCli, FabricWithoutPatternOrStiffnessExits2NamingFabricYaml) {
@@ -271,8 +274,8 @@ TEST_F(FitCli, BadOrMissingTargetsExit2NamingTheFile) {
 TEST_F(FitCli, FitRunsShellThenYarnAndWritesBothStagesAndASummary) {
   const fs::path out = *s_dir / "pipeline";
   const std::string args = "fit " + quoted(fabric()) + " --out " + quoted(out) +
-                           " --particles 2 --iterations 1 --samples 2 --local-samples 4 --local-evaluations 2 --threads 2"
-                           " --no-profile";
+                           " --global swarm --local implicit-filtering --particles 2 --iterations 1 --samples 2"
+                           " --local-samples 4 --local-evaluations 2 --threads 2 --no-profile";
   auto r = run_cli(args);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("shell fit of synthetic_yarn"), std::string::npos) << r.out;  // the shell command's own report
@@ -329,7 +332,7 @@ TEST(FitOptions, EveryInvalidOptionIsRefusedBeforeTheShellStage) {
                          " --particles 1 --samples 1 --local-method simplex --mesh -1");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   for (const char* option : {"--particles: must be at least 2 (got 1)", "--samples: must be at least 2 (got 1)",
-                             "--local-method: simplex: not a local method", "--mesh: must be a positive cell size"})
+                             "--local: simplex: not a local method", "--mesh: must be a positive cell size"})
     EXPECT_NE(r.err.find(option), std::string::npos) << option << "\n" << r.err;
   EXPECT_FALSE(fs::exists(dir / "out"));  // nothing ran, nothing was written
   // The same for `yarn fit` and `shell fit`.
@@ -350,7 +353,7 @@ TEST_F(FitCli, HelpListsTheOptions) {
   ASSERT_EQ(r.exit_code, 0);
   for (const char* o : {"--targets", "--particles", "--iterations", "--samples", "--local-samples", "--local-evaluations",
                         "--seed", "--threads", "--no-swarm", "--linear-stretch", "--no-rest-shape", "--relax-period", "--checkpoint",
-                        "--resume", "--quiet", "--force", "--local-method", "--start"})
+                        "--resume", "--quiet", "--force", "--local-method", "--start", "--budget", "--global", "--starts"})
     EXPECT_NE(r.out.find(o), std::string::npos) << o;
   r = run_cli("fit --help");
   ASSERT_EQ(r.exit_code, 0);

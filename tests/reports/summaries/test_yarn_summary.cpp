@@ -73,7 +73,7 @@ json yarn_fit() {
 TEST(YarnSummary, ErrorsPerDirectionInTheFitsOrder) {
   const std::string s = yarn_summary(yarn_fit());
   EXPECT_EQ(s.rfind("yarn fit: ok\n", 0), 0u) << s;
-  EXPECT_TRUE(contains(s, "  settings: 16 particles x 6 iterations, 5 samples per direction; local step implicit-filtering, "
+  EXPECT_TRUE(contains(s, "  settings: swarm 16 particles x 6 iterations, 5 samples per direction; local step implicit-filtering, "
                      "at most 40 evaluations, 12 samples per direction; seed 1; c* at every sample\n"))
       << s;
   json generated = yarn_fit();
@@ -115,7 +115,7 @@ TEST(YarnSummary, IdentifiabilityRangesFreeFailedAndDownhill) {
   EXPECT_TRUE(contains(s, "    kb         2 / 0.5                       ÷/× > 100")) << s;
   EXPECT_TRUE(contains(s, "g falls by more than 1 % with kb moved")) << s;
   EXPECT_TRUE(contains(s, "  evaluations: 144\n")) << s;
-  EXPECT_TRUE(contains(s, "  time: swarm 35.2 s, local 16.8 s, profile 3.81 s, total 56.3 s\n")) << s;
+  EXPECT_TRUE(contains(s, "  time: global 35.2 s, local 16.8 s, profile 3.81 s, total 56.3 s\n")) << s;
   EXPECT_TRUE(contains(s, "  swarm: swarm completed; 16 candidates stopped once they could not beat their particle's best\n"))
       << s;
   EXPECT_TRUE(contains(s, "  local: implicit filtering converged\n")) << s;
