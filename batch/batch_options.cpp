@@ -69,5 +69,6 @@ nlohmann::json fit_options_json(const pipeline::PipelineOptions& o) {
 fs::path fabric_output_folder(const fs::path& out, const std::string& fabric_id) { return out / "fabrics" / fabric_id; }
 fs::path swarm_checkpoint_file(const fs::path& fabric_folder) { return fabric_folder / "swarm_checkpoint.json"; }
 fs::path ledger_file(const fs::path& out) { return out / "batch.db"; }
+fs::path generated_tiles_folder(const fs::path& out) { return out / "tiles"; }
 
 }  // namespace yarnfit::batch

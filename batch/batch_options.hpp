@@ -62,5 +62,8 @@ struct BatchOptions {
 [[nodiscard]] std::filesystem::path fabric_output_folder(const std::filesystem::path& out, const std::string& fabric_id);
 [[nodiscard]] std::filesystem::path swarm_checkpoint_file(const std::filesystem::path& fabric_folder);
 [[nodiscard]] std::filesystem::path ledger_file(const std::filesystem::path& out);
+// Where the tiles of records with a knit to generate are kept: shared by every fabric of the
+// batch (fabrics of one knit and scale reuse one tile).
+[[nodiscard]] std::filesystem::path generated_tiles_folder(const std::filesystem::path& out);
 
 }  // namespace yarnfit::batch

@@ -119,13 +119,16 @@ void BatchRun::plan() {
   const std::string options_text = options_json.dump();
   const std::string here = host_name();
   const double now = unix_now();
+  // Checked as the jobs will run them: with the batch's folder for generated tiles.
+  pipeline::PipelineOptions job_options = m_options.fit;
+  job_options.tile_cache = generated_tiles_folder(m_options.out);
   for (const std::size_t i : selected) {
     const db::FabricLoad& load = database.fabrics[i];
     const std::string& key = keys[i];
     m_selected.push_back(key);
     ++m_summary.selected;
     db::Problems problems = load.problems;
-    if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, m_options.fit));
+    if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, job_options));
     JobRow row;
     row.fabric_id = key;
     row.family = load.family;

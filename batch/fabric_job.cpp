@@ -37,7 +37,7 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   o.shell.threads = options.threads_per_job;
   o.yarn.threads = options.threads_per_job;
   o.yarn.checkpoint = swarm_checkpoint_file(out);
-  o.tile_cache = options.out / "tiles";  // shared: fabrics of one knit and scale reuse one tile
+  o.tile_cache = generated_tiles_folder(options.out);
   o.yarn.resume = spec.resume && fs::exists(o.yarn.checkpoint);
   if (!o.yarn.resume) calibration::remove_fit_checkpoint(o.yarn.checkpoint);
   if (stage) {

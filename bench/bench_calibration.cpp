@@ -445,6 +445,9 @@ int main(int argc, char** argv) {
     }
     else if (key == "--accept-bands") base.objective.accept_bands = std::atof(value);
     else if (key == "--rest-rounds") base.objective.rest.rounds = std::atoi(value);
+    else if (key == "--rounds") base.alternation.max_rounds = std::atoi(value);
+    else if (key == "--r1-window") base.staged.r1_window = std::atof(value);
+    else if (key == "--root-correction") base.objective.root_correction = std::atoi(value) != 0;
     else if (key == "--local-method" || key == "--local") {
       const auto m = calibration::local_method_from_string(value);
       if (!m) {
@@ -482,6 +485,11 @@ int main(int argc, char** argv) {
       truth_row.params = p.truth;
       truth_row.final = at_truth;
       print_fit("true parameters", p, truth_row, false);
+      if (std::getenv("BENCH_PRINT_SAMPLES") != nullptr)
+        for (const auto& d : at_truth.directions)
+          for (std::size_t i = 0; i < d.stretch.size(); ++i)
+            std::printf("      sample %zu s %.4f S %.5g / %.5g  c %.5g / %.5g\n", i, d.stretch[i], d.stress_sim[i],
+                        d.stress_target[i], d.compression_sim[i], d.compression_target[i]);
       // Identifiability from stretch data alone: g of the local step's objective with one
       // parameter 10 % off the truth, the others true. A parameter the data pin raises g well
       // above g(truth); one they do not leave it near g(truth).

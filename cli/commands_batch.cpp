@@ -151,7 +151,7 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
       "batch", "Fit every fabric of a database (yarnfit fit's pipeline) as parallel jobs, on this machine or on MPI "
                "ranks (--mpi under mpirun); DIR/batch.db records every job and its results, DIR/fabrics/<id>/ holds "
                "the files of `fit`; rerunning the same command resumes (done fabrics skipped, changed ones redone, "
-               "interrupted ones continued inside their swarm). Exit 0 all done, 1 some failed, 2 bad arguments");
+               "interrupted ones continued inside their yarn fit: the swarm stage or local run they were in). Exit 0 all done, 1 some failed, 2 bad arguments");
   b->add_option("DB", a->database, "Database folder (one sub-folder per fabric)");
   b->add_option("-o,--out", a->out, "Batch folder: batch.db, batch.lock and fabrics/<id>/");
   b->add_option("--jobs", a->jobs, "Fabrics fitted at once, each in its own process")->capture_default_str();

@@ -50,7 +50,10 @@ struct SwarmStageSettings {
 struct StagedSearchSettings {
   SwarmStageSettings contact{8, 4, 3, 12};
   SwarmStageSettings all{16, 5, 4, 12};
-  double r1_window = 0.05;   // stage 2 bounds R1 to stage 1's value × (1 ± this)
+  // Stage 2 bounds R1 to stage 1's value × (1 ± this). Stage 1's R1 is biased by the others
+  // sitting at the middle of their ranges (up to 11 % on the generated acrylic stockinette), so
+  // the window must hold that bias; ±5 % missed the plated truth there (docs/calibration.md).
+  double r1_window = 0.15;
   int rescored = 4;          // distinct candidates re-evaluated on the local samples
   double distinct = 0.05;    // candidates closer than this (unit cube, ∞-norm) count as one
   int starts = 2;            // local runs, from the best rescored candidates

@@ -23,6 +23,7 @@
 #include "batch/batch.hpp"
 #include "batch/ledger.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/fabrics_db/fabric_fixture.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
 
@@ -392,6 +393,27 @@ TEST_F(BatchCli, BadArgumentsExit2AndASecondBatchOnTheSameFolderIsRefused) {
   const batch::Ledger ledger = batch::Ledger::open_read_only(batch::ledger_file(out));
   EXPECT_EQ(ledger.job("knit_c")->status, "queued");
   EXPECT_EQ(ledger.events().back().event, "interrupted");
+}
+
+// A record naming a knit to generate is fitted: the batch checks it with the folder its jobs
+// keep generated tiles in (it used to refuse every such record before any work, asking for a
+// tile cache that only the jobs set).
+TEST(BatchGeneratedTile, ARecordNamingAKnitIsFittedOnItsGeneratedTile) {
+  ScratchDir dir("batch_knit");
+  write_base_fabric(dir / "db" / "K", "K");
+  add_pattern_line(dir / "db" / "K", "{knit: stockinette, stitch_length_mm: 15.67, yarn_radius_mm: 1.2}");
+  const fs::path out = dir / "out";
+  const auto r = run_cli("batch " + quoted(dir / "db") + " --out " + quoted(out) + k_small + " --no-report");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const batch::Ledger ledger = batch::Ledger::open_read_only(batch::ledger_file(out));
+  const auto job = ledger.job("K");
+  ASSERT_TRUE(job);
+  EXPECT_EQ(job->status, "done") << job->error;
+  EXPECT_TRUE(fs::exists(out / "fabrics" / "K" / "yarn_fit.json"));
+  int tiles = 0;
+  for (const auto& e : fs::directory_iterator(batch::generated_tiles_folder(out)))
+    tiles += e.path().extension() == ".pyp";
+  EXPECT_EQ(tiles, 1);
 }
 
 }  // namespace
