@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "swarm/json_numbers.hpp"
 #include "swarm/swarm_state.hpp"
 
 namespace yarnfit::swarm::detail {
@@ -19,23 +20,9 @@ using nlohmann::json;
 constexpr const char* kFormat = "yarnfit swarm checkpoint";
 constexpr int kVersion = 1;
 
-json number(double v) {
-  if (std::isfinite(v)) return v;
-  if (std::isnan(v)) return "nan";
-  return v > 0 ? "inf" : "-inf";
-}
-
-json vector(const Eigen::VectorXd& v) {
-  json out = json::array();
-  for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(number(v[i]));
-  return out;
-}
-
-json columns(const Eigen::MatrixXd& m) {
-  json out = json::array();
-  for (Eigen::Index j = 0; j < m.cols(); ++j) out.push_back(vector(m.col(j)));
-  return out;
-}
+using swarm::json_columns;
+using swarm::json_number;
+using swarm::json_vector;
 
 // Reads fields of one checkpoint file; every error names the file and the field.
 class Reader {
@@ -183,13 +170,13 @@ json history_json(const std::vector<IterationRecord>& history) {
   json out = json::array();
   for (const auto& h : history) {
     out.push_back({{"iteration", h.iteration},
-                   {"best_value", number(h.best_value)},
-                   {"iteration_best", number(h.iteration_best)},
-                   {"mean_value", number(h.mean_value)},
+                   {"best_value", json_number(h.best_value)},
+                   {"iteration_best", json_number(h.iteration_best)},
+                   {"mean_value", json_number(h.mean_value)},
                    {"failed", h.failed},
-                   {"neighbour_distance", number(h.neighbour_distance)},
-                   {"inertia", number(h.inertia)},
-                   {"seconds", number(h.seconds)}});
+                   {"neighbour_distance", json_number(h.neighbour_distance)},
+                   {"inertia", json_number(h.inertia)},
+                   {"seconds", json_number(h.seconds)}});
   }
   return out;
 }
@@ -218,7 +205,7 @@ json failures_json(const std::vector<FailedEvaluation>& failures) {
     out.push_back({{"evaluation", f.evaluation},
                    {"iteration", f.iteration},
                    {"particle", f.particle},
-                   {"x", vector(f.x)},
+                   {"x", json_vector(f.x)},
                    {"message", f.message}});
   }
   return out;
@@ -250,18 +237,18 @@ void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& s
       {"settings", settings_json(state.settings)},
       {"iterations_done", state.iterations_done},
       {"random_state", state.random_state},
-      {"position", columns(state.position)},
-      {"velocity", columns(state.velocity)},
-      {"best_position", columns(state.best_position)},
-      {"best_value", vector(state.best_value)},
-      {"global_best", vector(state.global_best)},
+      {"position", json_columns(state.position)},
+      {"velocity", json_columns(state.velocity)},
+      {"best_position", json_columns(state.best_position)},
+      {"best_value", json_vector(state.best_value)},
+      {"global_best", json_vector(state.global_best)},
       {"summary",
-       {{"best_value", number(s.best_value)},
+       {{"best_value", json_number(s.best_value)},
         {"best_iteration", s.best_iteration},
         {"best_particle", s.best_particle},
         {"evaluations", s.evaluations},
         {"failed", s.failed},
-        {"seconds", number(s.seconds)},
+        {"seconds", json_number(s.seconds)},
         {"history", history_json(s.history)},
         {"failures", failures_json(s.failures)}}},
   };

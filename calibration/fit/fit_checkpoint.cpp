@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "fabrics_db/text_util.hpp"
+#include "swarm/json_numbers.hpp"
 
 namespace yarnfit::calibration {
 
@@ -18,11 +19,9 @@ using nlohmann::json;
 constexpr const char* kFormat = "yarnfit fit checkpoint";
 constexpr int kVersion = 1;
 
-json number(double v) {
-  if (std::isfinite(v)) return v;
-  if (std::isnan(v)) return "nan";
-  return v > 0 ? "inf" : "-inf";
-}
+using swarm::json_columns;
+using swarm::json_number;
+using swarm::json_vector;
 
 double real(const json& j) {
   if (j.is_number()) return j.get<double>();
@@ -32,22 +31,10 @@ double real(const json& j) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-json vector(const Eigen::VectorXd& v) {
-  json out = json::array();
-  for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(number(v[i]));
-  return out;
-}
-
 Eigen::VectorXd vector_of(const json& j) {
   Eigen::VectorXd v(static_cast<Eigen::Index>(j.size()));
   for (std::size_t i = 0; i < j.size(); ++i) v[static_cast<Eigen::Index>(i)] = real(j[i]);
   return v;
-}
-
-json matrix(const Eigen::MatrixXd& m) {
-  json out = json::array();
-  for (Eigen::Index c = 0; c < m.cols(); ++c) out.push_back(vector(m.col(c)));
-  return out;
 }
 
 Eigen::MatrixXd matrix_of(const json& j) {
@@ -58,8 +45,8 @@ Eigen::MatrixXd matrix_of(const json& j) {
 }
 
 json round_json(const AlternationRound& r) {
-  return {{"round", r.round},       {"g_start", number(r.g_start)}, {"g_end", number(r.g_end)},
-          {"g_true", number(r.g_true)}, {"accepted", r.accepted},   {"move", number(r.move)},
+  return {{"round", r.round},       {"g_start", json_number(r.g_start)}, {"g_end", json_number(r.g_end)},
+          {"g_true", json_number(r.g_true)}, {"accepted", r.accepted},   {"move", json_number(r.move)},
           {"evaluations", r.evaluations}, {"iterations", r.iterations}, {"termination", r.termination},
           {"failed", r.failed},     {"seconds", r.seconds}};
 }
@@ -85,19 +72,19 @@ json run_json(const AlternationSummary& s) {
   for (const auto& r : s.rounds) rounds.push_back(round_json(r));
   return {{"ok", s.ok},
           {"message", s.message},
-          {"best_point", vector(s.best_point)},
-          {"best_value", number(s.best_value)},
-          {"start_value", number(s.start_value)},
+          {"best_point", json_vector(s.best_point)},
+          {"best_value", json_number(s.best_value)},
+          {"start_value", json_number(s.start_value)},
           {"rounds", rounds},
           {"converged", s.converged},
-          {"last_move", number(s.last_move)},
+          {"last_move", json_number(s.last_move)},
           {"evaluations", s.evaluations},
           {"failed_evaluations", s.failed_evaluations},
           {"fell_back", s.fell_back},
           {"fallback_reason", s.fallback_reason},
           {"fallback_report", s.fell_back ? s.fallback.brief_report() : std::string()},
-          {"residuals", vector(s.residuals)},
-          {"jacobian_log", matrix(s.jacobian_log)},
+          {"residuals", json_vector(s.residuals)},
+          {"jacobian_log", json_columns(s.jacobian_log)},
           {"seconds", s.seconds}};
 }
 
@@ -153,7 +140,7 @@ void write_fit_checkpoint(const std::filesystem::path& file, const FitCheckpoint
   json j{{"format", kFormat}, {"version", kVersion}};
   if (checkpoint.rescored) {
     json c = json::array();
-    for (const auto& g : *checkpoint.rescored) c.push_back({{"point", vector(g.point)}, {"value", number(g.value)}});
+    for (const auto& g : *checkpoint.rescored) c.push_back({{"point", json_vector(g.point)}, {"value", json_number(g.value)}});
     j["rescored"] = c;
   }
   json local = json::array();

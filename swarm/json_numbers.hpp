@@ -1,0 +1,31 @@
+#pragma once
+// Doubles and Eigen vectors as checkpoint JSON: finite values as numbers (17 significant
+// digits, which round-trips every finite double), ±inf and NaN, which JSON has no numbers
+// for, as the strings "inf", "-inf" and "nan". Shared by the swarm's and the fit's checkpoints.
+
+#include <Eigen/Core>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace yarnfit::swarm {
+
+inline nlohmann::json json_number(double v) {
+  if (std::isfinite(v)) return v;
+  if (std::isnan(v)) return "nan";
+  return v > 0 ? "inf" : "-inf";
+}
+
+inline nlohmann::json json_vector(const Eigen::VectorXd& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(json_number(v[i]));
+  return out;
+}
+
+// A matrix as an array of its columns.
+inline nlohmann::json json_columns(const Eigen::MatrixXd& m) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index j = 0; j < m.cols(); ++j) out.push_back(json_vector(m.col(j)));
+  return out;
+}
+
+}  // namespace yarnfit::swarm
