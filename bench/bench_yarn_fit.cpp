@@ -11,8 +11,12 @@
 // warp of the small woven satin (../shared/data/patterns/satin_small.pyp, the 0.1 mm yarn
 // parameters) and of the stockinette and rib: every point converged, ≤ 50 iterations each;
 // and, with `sweeps`, the 0–50 % free-compression curves in weft, bias and warp of the real
-// stockinette and cartridge-belt rib tiles (issue 4, acceptance 5).
-// Usage: bench_yarn_fit [timing|loose|sweeps|all] [SHARED_DIR]
+// stockinette and cartridge-belt rib tiles (issue 4, acceptance 5); with `slack` (not part of
+// `all`), issue 37's table for satin_small and every slack reproducer
+// (yarn_fit/generate/slack_tiles.hpp): the 0–22 % sweeps in three directions, points
+// converged, Newton iterations per point (median ≤ 30, max ≤ 200) and the energy–stress
+// consistency (median ≤ 1 %, 90th percentile ≤ 5 %).
+// Usage: bench_yarn_fit [timing|loose|sweeps|slack|all] [SHARED_DIR]
 // Parameters: default_params with ks2 = 400 N and R1 from the tile (the tests' defaults), or
 // the shared 0.1 mm parameter file for the satin.
 #include <omp.h>
@@ -29,6 +33,7 @@
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/homogenise/rest_shape.hpp"
+#include "yarn_fit/generate/slack_tiles.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
 namespace {
@@ -44,26 +49,28 @@ struct Prepared {
   RestShapeResult rest_shape;
 };
 
+// `tile` after the rest-shape heuristic, with `params`.
+Prepared prepare_tile(const std::string& name, const db::PeriodicTile& tile, const YarnParams& params) {
+  Prepared p;
+  p.name = name;
+  p.params = params;
+  YarnSystem system(make_yarn_tile(tile), p.params);
+  p.rest = Eigen::VectorXd::Zero(system.dof_count());
+  p.rest_shape = relax_rest_shape(system, p.rest);
+  p.tile = system.tile();
+  return p;
+}
+
 // The tile `name` of ../shared after the rest-shape heuristic, with the tests' default
 // parameters or those of `params_file`.
 Prepared prepare(const std::string& shared, const std::string& name, const std::string& params_file = "") {
   db::Problems problems;
   const auto tile = db::read_pyp(shared + "/data/patterns/" + name + ".pyp", problems);
   if (!tile) throw std::runtime_error(problems.to_string());
-  Prepared p;
-  p.name = name;
-  if (params_file.empty()) {
-    p.params = default_params({400.0, db::compute_tile_facts(*tile).r_est});
-  } else {
-    const auto params = read_yarn_params(shared + "/" + params_file, std::nullopt, problems);
-    if (!params) throw std::runtime_error(problems.to_string());
-    p.params = *params;
-  }
-  YarnSystem system(make_yarn_tile(*tile), p.params);
-  p.rest = Eigen::VectorXd::Zero(system.dof_count());
-  p.rest_shape = relax_rest_shape(system, p.rest);
-  p.tile = system.tile();
-  return p;
+  if (params_file.empty()) return prepare_tile(name, *tile, default_params({400.0, db::compute_tile_facts(*tile).r_est}));
+  const auto params = read_yarn_params(shared + "/" + params_file, std::nullopt, problems);
+  if (!params) throw std::runtime_error(problems.to_string());
+  return prepare_tile(name, *tile, *params);
 }
 
 double median(std::vector<double> v) {
@@ -187,17 +194,99 @@ void curve(const Prepared& p, double angle, const char* direction, double max_st
                 s.stress_s, s.energy_density, s.solves, s.ok ? "ok" : s.message.c_str());
 }
 
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(std::min<double>(v.size() - 1, std::floor(q * (v.size() - 1) + 0.5)))];
+}
+
+// Issue 37's table for one tile: the 0–22 % free-compression sweeps (23 points) in weft, bias
+// and warp from the rest state: points converged, Newton iterations per point (every solve of
+// the point's compression search), and the energy–stress consistency
+// |ΔΨ − ½(σ_i + σ_{i−1})Δs| / |ΔΨ| over the intervals with s ≥ 5 % (at the free compression
+// dΨ/ds = σ_s, so the trapezoid of σ_s must give the energy's change).
+struct SlackFigures {
+  int points = 0, converged = 0;
+  std::vector<double> iterations, consistency;
+  double seconds = 0.0;
+};
+
+SlackFigures slack_sweeps(const Prepared& p, bool print_points) {
+  SlackFigures f;
+  std::printf("%s (%d vertices): rest shape %.2f s, %d Newton iterations, %s\n", p.name.c_str(),
+              static_cast<int>(p.tile.reference.size()), p.rest_shape.seconds, p.rest_shape.newton_iterations,
+              p.rest_shape.converged ? "converged" : ("NOT converged: " + p.rest_shape.last_solve.message).c_str());
+  for (const auto& [angle, direction] : {std::pair{weft_angle(), "weft"}, {bias_angle(), "bias"}, {warp_angle(), "warp"}}) {
+    YarnSystem system(p.tile, p.params);
+    Eigen::VectorXd g = p.rest;
+    const StretchSweep sweep = sweep_stretch(system, angle, even_stretches(0.22, 23), g);
+    std::string per_point;
+    int converged = 0, most = 0;
+    for (std::size_t i = 0; i < sweep.points.size(); ++i) {
+      const Sample& s = sweep.points[i];
+      converged += s.ok ? 1 : 0;
+      most = std::max(most, s.newton_iterations);
+      f.iterations.push_back(s.newton_iterations);
+      per_point += " " + std::to_string(s.newton_iterations) + (s.ok ? "" : "!");
+      const Sample& before = sweep.points[i > 0 ? i - 1 : 0];
+      if (i > 0 && s.ok && before.ok && before.chi.stretch >= 0.05 - 1e-12) {
+        const double d_psi = s.energy_density - before.energy_density;
+        const double trapezoid = 0.5 * (s.stress_s + before.stress_s) * (s.chi.stretch - before.chi.stretch);
+        f.consistency.push_back(std::abs(d_psi - trapezoid) / std::max(std::abs(d_psi), 1e-300));
+      }
+      if (print_points && !s.ok) std::printf("       s %.2f: %s\n", s.chi.stretch, s.message.c_str());
+    }
+    f.points += static_cast<int>(sweep.points.size());
+    f.converged += converged;
+    f.seconds += sweep.seconds;
+    std::printf("  %-4s %2d of %zu converged, at most %5d iterations a point, %6d in all, %.2f s\n"
+                "       iterations per point (! = not converged):%s\n",
+                direction, converged, sweep.points.size(), most, sweep.newton_iterations, sweep.seconds,
+                per_point.c_str());
+  }
+  return f;
+}
+
+void slack_table(const std::string& shared, bool print_points) {
+  std::vector<std::pair<std::string, SlackFigures>> rows;
+  const auto run = [&](const Prepared& p) { rows.emplace_back(p.name, slack_sweeps(p, print_points)); };
+  run(prepare(shared, "satin_small", "data/yarn_params_0.1mm.yaml"));
+  for (const std::string& name : slack_reproducer_names()) {
+    const SlackReproducer r = make_slack_reproducer(name);
+    std::printf("%s: %s\n", r.name.c_str(), r.construction.c_str());
+    run(prepare_tile(r.name, r.tile, r.params));
+  }
+  std::printf("\nissue 37 goals (0-22 %% free-compression sweeps, weft, bias, warp; one core):\n"
+              "  %-16s %9s %12s %12s %14s %9s   %s\n", "tile", "converged", "median its", "max its",
+              "consistency", "90th", "verdict");
+  for (const auto& [name, f] : rows) {
+    const double med = percentile(f.iterations, 0.5), most = percentile(f.iterations, 1.0);
+    const double cmed = percentile(f.consistency, 0.5), c90 = percentile(f.consistency, 0.9);
+    const bool met = f.converged == f.points && med <= 30 && most <= 200 && cmed <= 0.01 && c90 <= 0.05;
+    std::printf("  %-16s %4d/%-4d %12.0f %12.0f %12.2f %% %7.2f %%   %s (%.1f s)\n", name.c_str(), f.converged, f.points,
+                med, most, 100 * cmed, 100 * c90, met ? "met" : "MISSED", f.seconds);
+  }
+  std::printf("  goals: all converge; iterations per point median <= 30, max <= 200; consistency median <= 1 %%, "
+              "90th <= 5 %%\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "all";
   const std::string shared = argc > 2 ? argv[2] : YARNFIT_SHARED_DIR;
-  if (mode != "timing" && mode != "loose" && mode != "sweeps" && mode != "all") {
-    std::fprintf(stderr, "usage: bench_yarn_fit [timing|loose|sweeps|all] [SHARED_DIR]\n");
+  if (mode != "timing" && mode != "loose" && mode != "sweeps" && mode != "slack" && mode != "all") {
+    std::fprintf(stderr, "usage: bench_yarn_fit [timing|loose|sweeps|slack|all] [SHARED_DIR]\n");
     return 2;
   }
   omp_set_num_threads(1);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // figures as they come, also into a file
   try {
+    if (mode == "slack") {
+      slack_table(shared, true);
+      return 0;
+    }
     const Prepared stockinette = prepare(shared, "stockinette");
     const Prepared rib = prepare(shared, "cartridge_belt_rib");
     if (mode == "timing" || mode == "all") {

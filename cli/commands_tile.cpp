@@ -1,5 +1,6 @@
 // `yarnfit tile make`: a relaxed periodic yarn tile of a knit from its chart, stitch length and
-// yarn radius (issue 20; yarn_fit/generate/knit_generation.hpp).
+// yarn radius (issue 20; yarn_fit/generate/knit_generation.hpp), or a woven tile from its
+// weave chart, yarn spacing and radius (issue 37; fabrics_db/tile/woven_tile.hpp).
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -9,14 +10,16 @@
 #include "cli/commands.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/tile/knit_chart.hpp"
+#include "fabrics_db/tile/woven_tile.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 
 namespace yarnfit::cli {
 namespace {
 
 struct TileMakeArgs {
-  std::string chart, out, params_file;
+  std::string chart, weave, out, params_file;
   double stitch_length_mm = 0.0;
+  double yarn_spacing_mm = 0.0;
   double yarn_radius_mm = 0.0;
   double ks2 = 400.0;
   int vertices_per_stitch = 16;
@@ -25,11 +28,54 @@ struct TileMakeArgs {
   bool quiet = false;
 };
 
+// A woven tile as constructed (the yarn commands relax it at rest before they simulate).
+int run_weave_make(const TileMakeArgs& a) {
+  std::vector<std::string> problems;
+  std::string why;
+  const auto chart = db::parse_weave_chart(a.weave, &why);
+  if (!chart) problems.push_back("--weave: " + why);
+  if (!a.chart.empty()) problems.push_back("--chart: give either a knit chart or --weave, not both");
+  if (a.stitch_length_mm != 0.0) problems.push_back("--stitch-length-mm: a woven tile takes --yarn-spacing-mm");
+  db::WovenTileOptions o;
+  o.yarn_spacing = 1e-3 * a.yarn_spacing_mm;
+  o.yarn_radius = 1e-3 * a.yarn_radius_mm;
+  if (const std::string bad = o.check(); !bad.empty()) problems.push_back("--yarn-spacing-mm / --yarn-radius-mm: " + bad);
+  if (std::filesystem::exists(a.out) && !a.force) problems.push_back(a.out + ": exists (pass --force to replace it)");
+  if (!problems.empty()) {
+    for (const auto& p : problems) std::cerr << "tile make: " << p << "\n";
+    return k_exit_invalid_input;
+  }
+  const db::PeriodicTile tile = db::make_woven_tile(*chart, o);
+  if (!write_files(a.out, [&] { db::write_pyp(tile, a.out); })) return k_exit_internal;
+  if (a.json) {
+    std::cout << nlohmann::json{{"weave", chart->name},
+                                {"weave_rows", chart->text()},
+                                {"period_mm", {1e3 * tile.period_x, 1e3 * tile.period_y}},
+                                {"yarn_spacing_mm", a.yarn_spacing_mm},
+                                {"yarn_radius_mm", a.yarn_radius_mm},
+                                {"vertices", tile.vertex_count()},
+                                {"relaxed", false},
+                                {"file", a.out}}
+                     .dump(2)
+              << "\n";
+  } else if (!a.quiet) {
+    std::cout << "tile make --weave " << a.weave << " (" << chart->text() << "), yarns "
+              << db::format_g(a.yarn_spacing_mm) << " mm apart, R " << db::format_g(a.yarn_radius_mm) << " mm: "
+              << chart->warps() << " warps x " << chart->wefts() << " wefts, " << tile.vertex_count()
+              << " vertices, period " << db::format_g(1e3 * tile.period_x, 4) << " x "
+              << db::format_g(1e3 * tile.period_y, 4) << " mm\n"
+              << "  as constructed (not relaxed: the yarn commands relax it at rest); wrote " << a.out << "\n";
+  }
+  return k_exit_ok;
+}
+
 int run_tile_make(const TileMakeArgs& a) {
+  if (!a.weave.empty()) return run_weave_make(a);
   std::vector<std::string> problems;
   std::string why;
   const auto chart = db::parse_knit_chart(a.chart, &why);
-  if (!chart) problems.push_back("--chart: " + why);
+  if (!chart) problems.push_back("--chart: " + (a.chart.empty() ? std::string("a knit chart (or --weave) is required") : why));
+  if (a.yarn_spacing_mm != 0.0) problems.push_back("--yarn-spacing-mm: only for a woven tile (--weave)");
   if (!(std::isfinite(a.stitch_length_mm) && a.stitch_length_mm > 0.0))
     problems.push_back("--stitch-length-mm: must be a positive length in millimetres");
   if (!(std::isfinite(a.yarn_radius_mm) && a.yarn_radius_mm > 0.0))
@@ -101,15 +147,24 @@ void add_tile_commands(CLI::App& app, int& exit_code) {
       "rest, contacts resolved, period relaxed until the coarse stress at rest is at most 1 % of sigma_s at 10 % "
       "stretch in weft and warp) and write it as a pyp file (x axis along the weft). JSON: chart, period_mm, "
       "wale_spacing_mm, course_spacing_mm, courses_per_cm, wales_per_cm, stitch_length_mm, yarn_radius_mm, "
-      "rest_stress_ratio, converged, seconds, params. Exit 1, writing nothing, when the relaxation fails.");
+      "rest_stress_ratio, converged, seconds, params. Exit 1, writing nothing, when the relaxation fails. "
+      "With --weave instead of --chart: a woven tile from its weave chart, yarn spacing and radius, as constructed "
+      "(wefts along x, warps along y; not relaxed).");
   std::string names;
   for (const auto& n : db::named_knit_charts()) names += (names.empty() ? "" : ", ") + n;
   make->add_option("--chart", args->chart,
                    "Named chart (" + names +
                        ") or rows of k (knit) and p (purl) as the fabric's face shows them, lowest course first, "
-                       "separated by '/', e.g. kp/pk")
-      ->required();
-  make->add_option("--stitch-length-mm", args->stitch_length_mm, "Yarn length per stitch [mm]")->required();
+                       "separated by '/', e.g. kp/pk");
+  std::string weaves;
+  for (const auto& n : db::named_weave_charts()) weaves += (weaves.empty() ? "" : ", ") + n;
+  make->add_option("--weave", args->weave,
+                   "A woven tile instead of a knit: named weave (" + weaves +
+                       ") or rows of 1 (warp on top) and 0 (weft on top), one row per weft yarn, lowest first, "
+                       "separated by '/', e.g. 10/01");
+  make->add_option("--stitch-length-mm", args->stitch_length_mm, "Yarn length per stitch [mm] (knits)");
+  make->add_option("--yarn-spacing-mm", args->yarn_spacing_mm,
+                   "Centre distance of neighbouring parallel yarns [mm] (woven tiles)");
   make->add_option("--yarn-radius-mm", args->yarn_radius_mm, "Yarn radius [mm]")->required();
   make->add_option("-o,--out", args->out, "The tile to write (.pyp)")->required();
   make->add_option("--params", args->params_file,

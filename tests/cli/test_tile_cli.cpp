@@ -55,6 +55,33 @@ TEST(TileCli, BadArgumentsAreNamed) {
   EXPECT_NE(tight.err.find("too short"), std::string::npos) << tight.err;
 }
 
+// A woven tile (issue 37): written as constructed, readable by the yarn commands, and the
+// options of the other kind of tile refused.
+TEST(TileCli, AWovenTileIsWrittenFromItsWeave) {
+  ScratchDir dir("tile_make_weave");
+  const fs::path out = dir / "basket.pyp";
+  const auto r = run_cli("tile make --weave basket2x2 --yarn-spacing-mm 1.5 --yarn-radius-mm 0.5 --json --out " +
+                         quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("weave_rows"), "1100/1100/0011/0011");
+  EXPECT_NEAR(j.at("period_mm")[0].get<double>(), 6.0, 1e-12);
+  EXPECT_EQ(j.at("vertices").get<int>(), 8 * 4 * 6);
+  db::Problems problems;
+  EXPECT_TRUE(db::read_pyp(out, problems)) << problems.to_string();
+  const auto bad = run_cli("tile make --weave 11/00 --chart seed --stitch-length-mm 3 --yarn-spacing-mm 0.8 "
+                           "--yarn-radius-mm 0.5 --out " + quoted(dir / "bad.pyp"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--weave: weave '11/00': weft 1 lies on one side"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--chart: give either a knit chart or --weave"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--stitch-length-mm: a woven tile takes --yarn-spacing-mm"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("at least twice the yarn radius"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad.pyp"));
+  const auto neither = run_cli("tile make --yarn-radius-mm 0.5 --stitch-length-mm 10 --out " + quoted(dir / "n.pyp"));
+  EXPECT_EQ(neither.exit_code, 2);
+  EXPECT_NE(neither.err.find("--chart: a knit chart (or --weave) is required"), std::string::npos) << neither.err;
+}
+
 // A record naming a knit validates, and `db show` says what will be generated.
 TEST(TileCli, ARecordNamingAKnitIsShownAsTheTileToGenerate) {
   ScratchDir dir("knit_record");
