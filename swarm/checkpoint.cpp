@@ -39,13 +39,7 @@ class Reader {
   }
 
   double real(const json& j, const std::string& field) const {
-    if (j.is_number()) return j.get<double>();
-    if (j.is_string()) {
-      const auto s = j.get<std::string>();
-      if (s == "inf") return std::numeric_limits<double>::infinity();
-      if (s == "-inf") return -std::numeric_limits<double>::infinity();
-      if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
-    }
+    if (const auto v = json_real(j)) return *v;
     fail(field, "expected a number, got " + j.dump());
   }
   double real(const json& parent, const std::string& key, const std::string& prefix) const {

@@ -1,10 +1,14 @@
 #pragma once
 // Doubles and Eigen vectors as checkpoint JSON: finite values as numbers (17 significant
 // digits, which round-trips every finite double), ±inf and NaN, which JSON has no numbers
-// for, as the strings "inf", "-inf" and "nan". Shared by the swarm's and the fit's checkpoints.
+// for, as the strings "inf", "-inf" and "nan"; and read back. Shared by the swarm's and the
+// fit's checkpoints.
 
 #include <Eigen/Core>
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
 #include <nlohmann/json.hpp>
 
 namespace yarnfit::swarm {
@@ -13,6 +17,17 @@ inline nlohmann::json json_number(double v) {
   if (std::isfinite(v)) return v;
   if (std::isnan(v)) return "nan";
   return v > 0 ? "inf" : "-inf";
+}
+
+// A number written by json_number; empty for anything else (the caller names the field).
+inline std::optional<double> json_real(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (!j.is_string()) return std::nullopt;
+  const auto& s = j.get_ref<const std::string&>();
+  if (s == "inf") return std::numeric_limits<double>::infinity();
+  if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+  return std::nullopt;
 }
 
 inline nlohmann::json json_vector(const Eigen::VectorXd& v) {

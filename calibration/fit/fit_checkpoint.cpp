@@ -23,12 +23,10 @@ using swarm::json_columns;
 using swarm::json_number;
 using swarm::json_vector;
 
+// A number as json_number wrote it; anything else is a damaged checkpoint, never a NaN.
 double real(const json& j) {
-  if (j.is_number()) return j.get<double>();
-  const std::string s = j.get<std::string>();
-  if (s == "inf") return std::numeric_limits<double>::infinity();
-  if (s == "-inf") return -std::numeric_limits<double>::infinity();
-  return std::numeric_limits<double>::quiet_NaN();
+  if (const auto v = swarm::json_real(j)) return *v;
+  throw std::runtime_error("expected a number, got " + j.dump());
 }
 
 Eigen::VectorXd vector_of(const json& j) {

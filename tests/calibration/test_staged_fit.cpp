@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
 #include <iostream>
 
 #include "calibration/fit/fit_checkpoint.hpp"
@@ -120,6 +124,34 @@ TEST(StagedFit, StoppedAfterAnyStageResumesToTheSameBits) {
     s.resume = true;
     const YarnFitResult resumed = fit_yarn_params(c.st.yarn_tile(), c.targets, c.st.scales, s);
     expect_same_fit(whole, resumed, "stopped after " + std::to_string(allowed) + " polls");
+  }
+}
+
+
+// Infinite and NaN values survive the round trip as strings; any other string where a
+// number belongs is a damaged checkpoint and says so, never a NaN fed to a resumed fit.
+TEST(FitCheckpointFile, NonFiniteNumbersRoundTripAndAStrayStringIsAnError) {
+  testing::ScratchDir dir("fit_checkpoint_numbers");
+  const auto file = dir / "fit.json";
+  FitCheckpoint c;
+  c.rescored = std::vector<GlobalCandidate>{
+      {Eigen::Vector3d(1.0, std::numeric_limits<double>::infinity(), -0.5), std::numeric_limits<double>::quiet_NaN()}};
+  write_fit_checkpoint(file, c);
+  const FitCheckpoint back = read_fit_checkpoint(file);
+  ASSERT_TRUE(back.rescored);
+  EXPECT_EQ((*back.rescored)[0].point, (*c.rescored)[0].point);
+  EXPECT_TRUE(std::isnan((*back.rescored)[0].value));
+  std::string text = testing::read_file(file);
+  const auto at = text.find("\"nan\"");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, 5, "\"oops\"");
+  testing::write_file(file, text);
+  try {
+    (void)read_fit_checkpoint(file);
+    ADD_FAILURE() << "a stray string was read as a number";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected a number, got \"oops\""), std::string::npos) << e.what();
   }
 }
 
