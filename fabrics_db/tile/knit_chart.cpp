@@ -1,5 +1,7 @@
 #include "fabrics_db/tile/knit_chart.hpp"
 
+#include "fabrics_db/tile/chart_rows.hpp"
+
 #include <array>
 #include <cctype>
 #include <utility>
@@ -48,28 +50,22 @@ std::optional<KnitChart> parse_knit_chart(const std::string& given, std::string*
   std::string text = given;
   for (const auto& [name, chart] : kNamed)
     if (given == name) text = chart;
+  std::string lowered;
+  for (const char c : text) lowered += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string problem;
+  const auto rows = split_chart_rows(lowered, "kp", "chart", given, "stitches", problem);
+  if (!rows) {
+    if (problem != "unknown") return fail(problem);
+    std::string names;
+    for (const auto& n : named_knit_charts()) names += (names.empty() ? "" : ", ") + n;
+    return fail("unknown chart '" + given + "': expected one of " + names +
+                ", or rows of k (knit) and p (purl) separated by '/', such as kp/pk");
+  }
   KnitChart out;
   out.name = given;
-  out.rows.emplace_back();
-  for (const char c : text) {
-    const char lower = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (lower == 'k') out.rows.back().push_back(Stitch::knit);
-    else if (lower == 'p') out.rows.back().push_back(Stitch::purl);
-    else if (c == '/') out.rows.emplace_back();
-    else if (c != ' ') {
-      std::string names;
-      for (const auto& n : named_knit_charts()) names += (names.empty() ? "" : ", ") + n;
-      return fail("unknown chart '" + given + "': expected one of " + names +
-                  ", or rows of k (knit) and p (purl) separated by '/', such as kp/pk");
-    }
-  }
-  for (std::size_t j = 0; j < out.rows.size(); ++j) {
-    if (out.rows[j].empty())
-      return fail("chart '" + given + "': row " + std::to_string(j + 1) + " has no stitches");
-    if (out.rows[j].size() != out.rows.front().size())
-      return fail("chart '" + given + "': row " + std::to_string(j + 1) + " has " + std::to_string(out.rows[j].size()) +
-                  " stitches, row 1 has " + std::to_string(out.rows.front().size()) +
-                  " (every row of a repeating chart has the same width)");
+  for (const std::string& row : *rows) {
+    out.rows.emplace_back();
+    for (const char c : row) out.rows.back().push_back(c == 'k' ? Stitch::knit : Stitch::purl);
   }
   return out;
 }

@@ -1,5 +1,7 @@
 #include "fabrics_db/tile/woven_tile.hpp"
 
+#include "fabrics_db/tile/chart_rows.hpp"
+
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -65,22 +67,17 @@ std::optional<WeaveChart> parse_weave_chart(const std::string& given, std::strin
   std::string text = given;
   for (const auto& [name, chart] : kNamedWeaves)
     if (given == name) text = chart;
+  std::string problem;
+  const auto rows = split_chart_rows(text, "01", "weave", given, "crossings", problem);
+  if (!rows)
+    return fail(problem != "unknown" ? problem
+                                     : "unknown weave '" + given + "': expected one of " + weave_names() +
+                                           ", or rows of 1 (warp on top) and 0 (weft on top) separated by '/', such as 10/01");
   WeaveChart out;
   out.name = given;
-  out.rows.emplace_back();
-  for (const char c : text) {
-    if (c == '0' || c == '1') out.rows.back().push_back(c == '1');
-    else if (c == '/') out.rows.emplace_back();
-    else if (c != ' ')
-      return fail("unknown weave '" + given + "': expected one of " + weave_names() +
-                  ", or rows of 1 (warp on top) and 0 (weft on top) separated by '/', such as 10/01");
-  }
-  for (std::size_t j = 0; j < out.rows.size(); ++j) {
-    if (out.rows[j].empty()) return fail("weave '" + given + "': row " + std::to_string(j + 1) + " has no crossings");
-    if (out.rows[j].size() != out.rows.front().size())
-      return fail("weave '" + given + "': row " + std::to_string(j + 1) + " has " + std::to_string(out.rows[j].size()) +
-                  " crossings, row 1 has " + std::to_string(out.rows.front().size()) +
-                  " (every row of a repeating chart has the same width)");
+  for (const std::string& row : *rows) {
+    out.rows.emplace_back();
+    for (const char c : row) out.rows.back().push_back(c == '1');
   }
   // A yarn on the same side at every crossing floats free of the cloth.
   const auto floats = [&](const char* kind, int yarns, int crossings, auto warp_up_at) -> std::optional<std::string> {

@@ -1,7 +1,8 @@
 #include "yarn_fit/generate/slack_tiles.hpp"
 
 #include <functional>
-#include <map>
+#include <utility>
+#include <vector>
 #include <stdexcept>
 
 #include "fabrics_db/tile/woven_tile.hpp"
@@ -51,16 +52,17 @@ SlackReproducer knit(const std::string& name, const std::string& chart_name, dou
   return r;
 }
 
-const std::map<std::string, std::function<SlackReproducer()>>& builders() {
-  static const std::map<std::string, std::function<SlackReproducer()>> all{
-      {"plain_R0.25", [] { return woven("plain_R0.25", "plain", 0.25e-3); }},
-      {"plain_R0.5", [] { return woven("plain_R0.5", "plain", 0.5e-3); }},
-      {"basket_R0.25", [] { return woven("basket_R0.25", "basket2x2", 0.25e-3); }},
-      {"basket_R0.5", [] { return woven("basket_R0.5", "basket2x2", 0.5e-3); }},
-      {"loose_st_R0.35", [] { return knit("loose_st_R0.35", "stockinette", 0.35e-3); }},
-      {"loose_st_R0.5", [] { return knit("loose_st_R0.5", "stockinette", 0.5e-3); }},
-      {"open_rib_R0.35", [] { return knit("open_rib_R0.35", "rib1x1", 0.35e-3); }},
-      {"open_rib_R0.5", [] { return knit("open_rib_R0.5", "rib1x1", 0.5e-3); }},
+// Name and builder of every reproducer, woven first.
+const std::vector<std::pair<std::string, std::function<SlackReproducer(const std::string&)>>>& builders() {
+  static const std::vector<std::pair<std::string, std::function<SlackReproducer(const std::string&)>>> all{
+      {"plain_R0.25", [](const std::string& n) { return woven(n, "plain", 0.25e-3); }},
+      {"plain_R0.5", [](const std::string& n) { return woven(n, "plain", 0.5e-3); }},
+      {"basket_R0.25", [](const std::string& n) { return woven(n, "basket2x2", 0.25e-3); }},
+      {"basket_R0.5", [](const std::string& n) { return woven(n, "basket2x2", 0.5e-3); }},
+      {"loose_st_R0.35", [](const std::string& n) { return knit(n, "stockinette", 0.35e-3); }},
+      {"loose_st_R0.5", [](const std::string& n) { return knit(n, "stockinette", 0.5e-3); }},
+      {"open_rib_R0.35", [](const std::string& n) { return knit(n, "rib1x1", 0.35e-3); }},
+      {"open_rib_R0.5", [](const std::string& n) { return knit(n, "rib1x1", 0.5e-3); }},
   };
   return all;
 }
@@ -68,15 +70,18 @@ const std::map<std::string, std::function<SlackReproducer()>>& builders() {
 }  // namespace
 
 const std::vector<std::string>& slack_reproducer_names() {
-  static const std::vector<std::string> names{"plain_R0.25",    "plain_R0.5",    "basket_R0.25",   "basket_R0.5",
-                                              "loose_st_R0.35", "loose_st_R0.5", "open_rib_R0.35", "open_rib_R0.5"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const auto& [name, build] : builders()) v.push_back(name);
+    return v;
+  }();
   return names;
 }
 
 SlackReproducer make_slack_reproducer(const std::string& name) {
-  const auto found = builders().find(name);
-  if (found == builders().end()) throw std::invalid_argument("no slack reproducer named '" + name + "'");
-  return found->second();
+  for (const auto& [known, build] : builders())
+    if (known == name) return build(name);
+  throw std::invalid_argument("no slack reproducer named '" + name + "'");
 }
 
 }  // namespace yarnfit::yarn
