@@ -2,31 +2,32 @@
 
 namespace yarnfit::db {
 
-std::optional<std::vector<std::string>> split_chart_rows(const std::string& text, const std::string& symbols,
-                                                         const std::string& kind, const std::string& given,
-                                                         const std::string& cells, std::string& why) {
+ChartRows split_chart_rows(const std::string& text, const std::string& symbols, const std::string& kind,
+                           const std::string& given, const std::string& cells) {
+  ChartRows out;
   std::vector<std::string> rows(1);
   for (const char c : text) {
     if (c == '/') rows.emplace_back();
     else if (symbols.find(c) != std::string::npos) rows.back() += c;
     else if (c != ' ') {
-      why = "unknown";
-      return std::nullopt;
+      out.unknown_symbol = true;
+      return out;
     }
   }
   for (std::size_t j = 0; j < rows.size(); ++j) {
     if (rows[j].empty()) {
-      why = kind + " '" + given + "': row " + std::to_string(j + 1) + " has no " + cells;
-      return std::nullopt;
+      out.problem = kind + " '" + given + "': row " + std::to_string(j + 1) + " has no " + cells;
+      return out;
     }
     if (rows[j].size() != rows.front().size()) {
-      why = kind + " '" + given + "': row " + std::to_string(j + 1) + " has " + std::to_string(rows[j].size()) + " " +
-            cells + ", row 1 has " + std::to_string(rows.front().size()) +
-            " (every row of a repeating chart has the same width)";
-      return std::nullopt;
+      out.problem = kind + " '" + given + "': row " + std::to_string(j + 1) + " has " + std::to_string(rows[j].size()) +
+                    " " + cells + ", row 1 has " + std::to_string(rows.front().size()) +
+                    " (every row of a repeating chart has the same width)";
+      return out;
     }
   }
-  return rows;
+  out.rows = std::move(rows);
+  return out;
 }
 
 }  // namespace yarnfit::db

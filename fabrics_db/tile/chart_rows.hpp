@@ -2,17 +2,19 @@
 // The row layout the knit and weave charts share: rows separated by '/', spaces ignored, one
 // symbol per cell, every row as wide as the first (the chart repeats).
 
-#include <optional>
 #include <string>
 #include <vector>
 
 namespace yarnfit::db {
 
-// The rows of `text`, each a string of its cells. Empty, with `why` set, when a character is
-// neither '/', a space nor in `symbols` (why = "unknown", the caller words it), or when a row
-// is empty or of another width than the first ("<kind> '<given>': row 2 has 3 <cells>, …").
-std::optional<std::vector<std::string>> split_chart_rows(const std::string& text, const std::string& symbols,
-                                                         const std::string& kind, const std::string& given,
-                                                         const std::string& cells, std::string& why);
+struct ChartRows {
+  std::vector<std::string> rows;  // each a string of its cells; empty when a problem was found
+  bool unknown_symbol = false;    // a character neither '/', a space nor a symbol: the caller words it
+  std::string problem;            // an empty row or one of another width ("<kind> '<given>': row 2 has 3 <cells>, …")
+  [[nodiscard]] bool ok() const { return !unknown_symbol && problem.empty(); }
+};
+
+ChartRows split_chart_rows(const std::string& text, const std::string& symbols, const std::string& kind,
+                           const std::string& given, const std::string& cells);
 
 }  // namespace yarnfit::db

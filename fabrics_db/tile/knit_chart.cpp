@@ -1,10 +1,10 @@
 #include "fabrics_db/tile/knit_chart.hpp"
 
-#include "fabrics_db/tile/chart_rows.hpp"
-
 #include <array>
 #include <cctype>
 #include <utility>
+
+#include "fabrics_db/tile/chart_rows.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -52,10 +52,9 @@ std::optional<KnitChart> parse_knit_chart(const std::string& given, std::string*
     if (given == name) text = chart;
   std::string lowered;
   for (const char c : text) lowered += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  std::string problem;
-  const auto rows = split_chart_rows(lowered, "kp", "chart", given, "stitches", problem);
-  if (!rows) {
-    if (problem != "unknown") return fail(problem);
+  const ChartRows rows = split_chart_rows(lowered, "kp", "chart", given, "stitches");
+  if (!rows.problem.empty()) return fail(rows.problem);
+  if (rows.unknown_symbol) {
     std::string names;
     for (const auto& n : named_knit_charts()) names += (names.empty() ? "" : ", ") + n;
     return fail("unknown chart '" + given + "': expected one of " + names +
@@ -63,7 +62,7 @@ std::optional<KnitChart> parse_knit_chart(const std::string& given, std::string*
   }
   KnitChart out;
   out.name = given;
-  for (const std::string& row : *rows) {
+  for (const std::string& row : rows.rows) {
     out.rows.emplace_back();
     for (const char c : row) out.rows.back().push_back(c == 'k' ? Stitch::knit : Stitch::purl);
   }

@@ -1,12 +1,12 @@
 #include "fabrics_db/tile/woven_tile.hpp"
 
-#include "fabrics_db/tile/chart_rows.hpp"
-
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
+
+#include "fabrics_db/tile/chart_rows.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -67,15 +67,14 @@ std::optional<WeaveChart> parse_weave_chart(const std::string& given, std::strin
   std::string text = given;
   for (const auto& [name, chart] : kNamedWeaves)
     if (given == name) text = chart;
-  std::string problem;
-  const auto rows = split_chart_rows(text, "01", "weave", given, "crossings", problem);
-  if (!rows)
-    return fail(problem != "unknown" ? problem
-                                     : "unknown weave '" + given + "': expected one of " + weave_names() +
-                                           ", or rows of 1 (warp on top) and 0 (weft on top) separated by '/', such as 10/01");
+  const ChartRows rows = split_chart_rows(text, "01", "weave", given, "crossings");
+  if (!rows.problem.empty()) return fail(rows.problem);
+  if (rows.unknown_symbol)
+    return fail("unknown weave '" + given + "': expected one of " + weave_names() +
+                ", or rows of 1 (warp on top) and 0 (weft on top) separated by '/', such as 10/01");
   WeaveChart out;
   out.name = given;
-  for (const std::string& row : *rows) {
+  for (const std::string& row : rows.rows) {
     out.rows.emplace_back();
     for (const char c : row) out.rows.back().push_back(c == '1');
   }
