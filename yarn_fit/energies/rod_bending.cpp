@@ -1,21 +1,16 @@
-// Frame-free isotropic bending with rest curvature (thesis 6.6, SPEC §3 "Yarn").
+// Rod bending with a rest curvature vector (thesis 6.6, SPEC §3 "Yarn"; Bergou et al. 2008):
+// see yarn_elements.hpp for the energy and the frames.
 //
-// With a = x1 − x0, b = x2 − x1, p = |a||b|, q = a·b, n = a × b and χ = p + q, the squared
-// curvature binormal is a function of p and q alone:
-//   s = |κb|² = 4|n|²/χ² = 4 (p − q)/(p + q)     (|n|² = p² − q² = (p − q) χ),
-// so its derivatives follow by the chain rule through p and q:
-//   s_p = 8q/χ², s_q = −8p/χ², s_pp = −16q/χ³, s_qq = 16p/χ³, s_pq = 8(p − q)/χ³,
-//   ∇p = (|b| â, |a| b̂), ∇q = (b, a),
-//   ∇²p = [[|b|/|a| (I − ââᵀ), â b̂ᵀ], [b̂ âᵀ, |a|/|b| (I − b̂b̂ᵀ)]], ∇²q = [[0, I], [I, 0]].
-// Near a straight corner s_p ∇p + s_q ∇q cancels to O(φ); that gradient is evaluated in the
-// equivalent cancellation-free form ∇_a s = 8|b|/(χ²|a|) a × n, ∇_b s = −8|a|/(χ²|b|) b × n,
-// and p − q as |n|²/χ. The Hessian terms are all O(1/L²) there, so it needs no such care.
-//
-// κ = sqrt(s + δ²) − δ, W = c (κ − κ̄)², c = kb/(L̄a + L̄b):
-//   W_s = c (κ − κ̄)/r,  W_ss = c (δ + κ̄)/(2 r³),  r = sqrt(s + δ²),
-// ∇W = W_s ∇s, ∇²W = W_ss ∇s ∇sᵀ + W_s ∇²s, mapped from (a, b) to (x0, x1, x2).
+// The energy is written once, over the edge vectors (a, b), for any scalar type. Its gradient
+// and Hessian come from forward-mode automatic differentiation with Ceres' jets (a jet of
+// jets for second derivatives) over the 6 edge coordinates, then mapped to (x0, x1, x2). The
+// expression is smooth wherever it is finite (no square root of the curvature, unlike the
+// magnitude form), so no smoothing is needed through a straight corner.
+#include <ceres/jet.h>
+
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <Eigen/Geometry>
 
@@ -26,115 +21,201 @@ namespace yarnfit::yarn {
 
 namespace {
 
-constexpr double smoothing_delta = 1e-8;        // δ of κ = sqrt(|κb|² + δ²) − δ
 constexpr double fold_tolerance = 1.0 - 1e-12;  // a·b ≤ −(1 − 1e-12)|a||b|: folded back
 
-// The edges of a corner and the scalars its curvature depends on: p = |a||b|, q = a·b.
-struct Corner {
-  Vec3 a, b;
-  double la, lb, p, q;
-  Corner(const Vec3& x0, const Vec3& x1, const Vec3& x2)
-      : a(x1 - x0), b(x2 - x1), la(a.norm()), lb(b.norm()), p(la * lb), q(a.dot(b)) {}
-  // Zero-length edges and folded-back corners have no curvature.
-  [[nodiscard]] bool degenerate() const {
-    return !(la > 0.0) || !(lb > 0.0) || !(q > -fold_tolerance * p);
-  }
-};
+using Jet1 = ceres::Jet<double, 6>;
+using Jet2 = ceres::Jet<Jet1, 6>;
+template <class T>
+using V3 = Eigen::Matrix<T, 3, 1>;
 
-}  // namespace
-
-double corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
-  const Corner k(x0, x1, x2);
-  if (k.degenerate()) return std::numeric_limits<double>::infinity();
-  return 2.0 * k.a.cross(k.b).norm() / (k.p + k.q);
+double value_of(double x) { return x; }
+// A constant of scalar type T (a jet's constructor from a double is explicit and nests).
+template <class T>
+T lift(double x) {
+  if constexpr (std::is_same_v<T, double>)
+    return x;
+  else
+    return T(lift<typename T::Scalar>(x));
+}
+template <class T>
+V3<T> lift(const Vec3& v) {
+  return {lift<T>(v[0]), lift<T>(v[1]), lift<T>(v[2])};
+}
+template <class T, int N>
+double value_of(const ceres::Jet<T, N>& x) {
+  return value_of(x.a);
 }
 
-double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
-                       double rest_length_b, double rest_curvature, const RodBending& model,
-                       Vec<9>* gradient, Mat<9>* hessian, bool project_psd) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  const Corner corner(x0, x1, x2);
-  if (corner.degenerate()) return inf;
-  const Vec3& a = corner.a;
-  const Vec3& b = corner.b;
-  const double la = corner.la, lb = corner.lb, p = corner.p, q = corner.q;
-  const double rest_sum = rest_length_a + rest_length_b;
-  if (!(rest_sum > 0.0)) return inf;
+// Dot products written out: Eigen's reductions start from Scalar(0), which a jet of jets lacks.
+template <class T>
+T dot(const V3<T>& u, const V3<T>& v) {
+  return u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+}
 
-  const Vec3 n = a.cross(b);
-  const double n2 = n.squaredNorm();
-  const double chi = p + q;
-  const double chi2 = chi * chi;
-  const double s = 4.0 * n2 / chi2;
-  const double delta = smoothing_delta;
-  const double r = std::sqrt(s + delta * delta);
-  const double kappa = s / (r + delta);  // = r − δ without cancellation
-  const double c = model.kb / rest_sum;
-  const double diff = kappa - rest_curvature;
-  const double value = c * diff * diff;
-  if (gradient == nullptr && hessian == nullptr) return value;
+// The material frame's first director on an edge of tangent t: the anchor's director carried
+// by parallel transport, P(t0 → t) d0 = d0 − (d0·t)/(1 + t0·t) (t0 + t). False where the edge
+// has turned back against its anchor.
+template <class T>
+bool carried_director(const V3<T>& t, const EdgeAnchor& anchor, V3<T>& m1) {
+  const V3<T> t0 = lift<T>(anchor.tangent);
+  const V3<T> d0 = lift<T>(anchor.director);
+  const T beta = lift<T>(1.0) + dot(t, t0);
+  if (!(value_of(beta) > 1.0 - fold_tolerance)) return false;
+  m1 = d0 - (dot(d0, t) / beta) * (t0 + t);
+  return true;
+}
 
-  // ∇s with respect to (a, b).
-  const Vec3 ga = (8.0 * lb / (chi2 * la)) * a.cross(n);
-  const Vec3 gb = (-8.0 * la / (chi2 * lb)) * b.cross(n);
-  const double w_s = c * diff / r;
+// The curvature vector κ of the corner with edges a, b. κb is read in both edges' frames,
+// g_e = (κb·m2, −κb·m1); the two readings differ by the twist τ between the frames (frame a
+// carried across the corner against frame b), and κ = (g_a + g_b) / (2 cos(τ/2)) is their
+// mean direction at |κb|'s length, so κ̄ = 0 gives the frame-free c|κb|² whatever the twist.
+// False where κ is undefined (a zero edge, a folded corner, an edge turned back against its
+// anchor, frames twisted by π).
+template <class T>
+bool curvature_of(const V3<T>& a, const V3<T>& b, const CornerFrames& frames, T& k1, T& k2) {
+  using std::sqrt;
+  const T la = sqrt(dot(a, a));
+  const T lb = sqrt(dot(b, b));
+  if (!(value_of(la) > 0.0) || !(value_of(lb) > 0.0)) return false;
+  const V3<T> ta = a / la;
+  const V3<T> tb = b / lb;
+  const T chi = lift<T>(1.0) + dot(ta, tb);
+  if (!(value_of(chi) > 1.0 - fold_tolerance)) return false;
+  const V3<T> kb = (lift<T>(2.0) / chi) * ta.cross(tb);
+  V3<T> m1a, m1b;
+  if (!carried_director(ta, frames.in, m1a) || !carried_director(tb, frames.out, m1b)) return false;
+  const V3<T> across = m1a - (dot(m1a, tb) / chi) * (ta + tb);  // m1a carried onto edge b
+  const T twice_cos_sq = lift<T>(2.0) * (lift<T>(1.0) + dot(across, m1b));  // (2 cos(τ/2))²
+  if (!(value_of(twice_cos_sq) > 1e-12)) return false;
+  const T scale = lift<T>(1.0) / sqrt(twice_cos_sq);
+  k1 = scale * (dot(kb, ta.cross(m1a)) + dot(kb, tb.cross(m1b)));
+  k2 = -scale * (dot(kb, m1a) + dot(kb, m1b));
+  return true;
+}
 
-  if (gradient != nullptr) {
-    gradient->segment<3>(0) = -w_s * ga;
-    gradient->segment<3>(3) = w_s * (ga - gb);
-    gradient->segment<3>(6) = w_s * gb;
-  }
-  if (hessian == nullptr) return value;
+template <class T>
+bool energy_of(const V3<T>& a, const V3<T>& b, const CornerFrames& frames, const Eigen::Vector2d& rest, double c,
+               T& energy) {
+  T k1, k2;
+  if (!curvature_of(a, b, frames, k1, k2)) return false;
+  const T d1 = k1 - lift<T>(rest[0]);
+  const T d2 = k2 - lift<T>(rest[1]);
+  energy = lift<T>(c) * (d1 * d1 + d2 * d2);
+  return true;
+}
 
-  const double chi3 = chi2 * chi;
-  const double p_minus_q = n2 / chi;
-  const double s_p = 8.0 * q / chi2;
-  const double s_q = -8.0 * p / chi2;
-  const double s_pp = -16.0 * q / chi3;
-  const double s_qq = 16.0 * p / chi3;
-  const double s_pq = 8.0 * p_minus_q / chi3;
-
-  const Vec3 ah = a / la;
-  const Vec3 bh = b / lb;
-  Vec<6> grad_p;
-  grad_p << lb * ah, la * bh;
-  Vec<6> grad_q;
-  grad_q << b, a;
-  Vec<6> grad_s;
-  grad_s << ga, gb;
-
-  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
-  Mat<6> hs = s_pp * (grad_p * grad_p.transpose()) + s_qq * (grad_q * grad_q.transpose()) +
-              s_pq * (grad_p * grad_q.transpose() + grad_q * grad_p.transpose());
-  hs.topLeftCorner<3, 3>() += (s_p * lb / la) * (eye - ah * ah.transpose());
-  hs.bottomRightCorner<3, 3>() += (s_p * la / lb) * (eye - bh * bh.transpose());
-  const Eigen::Matrix3d cross_block = s_p * (ah * bh.transpose()) + s_q * eye;
-  hs.topRightCorner<3, 3>() += cross_block;
-  hs.bottomLeftCorner<3, 3>() += cross_block.transpose();
-
-  const double w_ss = c * (delta + rest_curvature) / (2.0 * r * r * r);
-  const Mat<6> hw = w_ss * (grad_s * grad_s.transpose()) + w_s * hs;
-
-  // (a, b) -> (x0, x1, x2): a = x1 − x0, b = x2 − x1.
+// (a, b) → (x0, x1, x2): a = x1 − x0, b = x2 − x1.
+Vec<9> gradient_in_positions(const Vec<6>& g) {
+  Vec<9> out;
+  out.segment<3>(0) = -g.segment<3>(0);
+  out.segment<3>(3) = g.segment<3>(0) - g.segment<3>(3);
+  out.segment<3>(6) = g.segment<3>(3);
+  return out;
+}
+Mat<9> hessian_in_positions(const Mat<6>& h) {
   Eigen::Matrix<double, 6, 9> jac = Eigen::Matrix<double, 6, 9>::Zero();
+  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
   jac.block<3, 3>(0, 0) = -eye;
   jac.block<3, 3>(0, 3) = eye;
   jac.block<3, 3>(3, 3) = -eye;
   jac.block<3, 3>(3, 6) = eye;
-  Mat<9> h9 = jac.transpose() * hw * jac;
-  h9 = 0.5 * (h9 + h9.transpose()).eval();
-  if (project_psd) numerics::project_psd<9>(h9);
-  *hessian = h9;
-  return value;
+  return jac.transpose() * h * jac;
+}
+
+}  // namespace
+
+EdgeAnchor anchor_along(const Vec3& edge) {
+  EdgeAnchor out;
+  out.tangent = edge.normalized();
+  // Horizontal and ⊥ to the tangent, ẑ × t, so a tile turned in its plane gets turned anchors
+  // (to the bit, for quarter turns); an edge within 6° of vertical takes x̂ made ⊥ instead.
+  const Vec3 across = Vec3::UnitZ().cross(out.tangent);
+  if (across.norm() > 0.1) {
+    out.director = across.normalized();
+  } else {
+    const Vec3 e = Vec3::UnitX();
+    out.director = (e - e.dot(out.tangent) * out.tangent).normalized();
+  }
+  return out;
+}
+
+EdgeAnchor carried_anchor(const EdgeAnchor& anchor, const Eigen::Matrix3d& rotation, const Vec3& edge) {
+  const Vec3 t0 = (rotation * anchor.tangent).normalized();
+  const Vec3 d0 = rotation * anchor.director;
+  const Vec3 t = edge.normalized();
+  const double beta = 1.0 + t0.dot(t);
+  if (!(beta > 1.0 - fold_tolerance)) return anchor_along(edge);  // turned back: no transport
+  Vec3 d = d0 - (d0.dot(t) / beta) * (t0 + t);
+  d -= d.dot(t) * t;
+  return {t, d.normalized()};
+}
+
+Eigen::Vector2d corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2, const CornerFrames& frames) {
+  double k1 = 0.0, k2 = 0.0;
+  if (!curvature_of<double>(x1 - x0, x2 - x1, frames, k1, k2))
+    return Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  return {k1, k2};
+}
+
+double corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
+  const Vec3 a = x1 - x0;
+  const Vec3 b = x2 - x1;
+  const double p = a.norm() * b.norm();
+  const double q = a.dot(b);
+  if (!(p > 0.0) || !(q > -fold_tolerance * p)) return std::numeric_limits<double>::infinity();
+  return 2.0 * a.cross(b).norm() / (p + q);
+}
+
+double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
+                       double rest_length_b, const CornerFrames& frames, const Eigen::Vector2d& rest_curvature,
+                       const RodBending& model, Vec<9>* gradient, Mat<9>* hessian, bool project_psd) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double rest_sum = rest_length_a + rest_length_b;
+  if (!(rest_sum > 0.0)) return inf;
+  const double c = model.kb / rest_sum;
+  const Vec3 a = x1 - x0;
+  const Vec3 b = x2 - x1;
+
+  if (hessian != nullptr) {
+    V3<Jet2> aj, bj;
+    for (int i = 0; i < 3; ++i) {
+      aj[i] = Jet2(Jet1(a[i], i), i);
+      bj[i] = Jet2(Jet1(b[i], 3 + i), 3 + i);
+    }
+    Jet2 w;
+    if (!energy_of(aj, bj, frames, rest_curvature, c, w)) return inf;
+    Mat<6> h6;
+    for (int i = 0; i < 6; ++i) h6.col(i) = w.v[i].v;
+    h6 = 0.5 * (h6 + h6.transpose()).eval();
+    Mat<9> h9 = hessian_in_positions(h6);
+    if (project_psd) numerics::project_psd<9>(h9);
+    *hessian = h9;
+    if (gradient != nullptr) *gradient = gradient_in_positions(w.a.v);
+    return w.a.a;
+  }
+  if (gradient != nullptr) {
+    V3<Jet1> aj, bj;
+    for (int i = 0; i < 3; ++i) {
+      aj[i] = Jet1(a[i], i);
+      bj[i] = Jet1(b[i], 3 + i);
+    }
+    Jet1 w;
+    if (!energy_of(aj, bj, frames, rest_curvature, c, w)) return inf;
+    *gradient = gradient_in_positions(w.v);
+    return w.a;
+  }
+  double w = 0.0;
+  if (!energy_of<double>(a, b, frames, rest_curvature, c, w)) return inf;
+  return w;
 }
 
 bool bending_element_sensitivity(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
-                                 double rest_length_b, double rest_curvature, double& d_energy, Vec<9>& d_gradient) {
+                                 double rest_length_b, const CornerFrames& frames,
+                                 const Eigen::Vector2d& rest_curvature, double& d_energy, Vec<9>& d_gradient) {
   // W = kb · (the element at kb = 1).
-  d_energy = bending_element(x0, x1, x2, rest_length_a, rest_length_b, rest_curvature, RodBending{1.0}, &d_gradient,
-                             nullptr, false);
+  d_energy = bending_element(x0, x1, x2, rest_length_a, rest_length_b, frames, rest_curvature, RodBending{1.0},
+                             &d_gradient, nullptr, false);
   return std::isfinite(d_energy);
 }
 
 }  // namespace yarnfit::yarn
-

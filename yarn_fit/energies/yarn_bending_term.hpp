@@ -1,7 +1,9 @@
 #pragma once
 // Rod bending with rest curvature (6.6) at every vertex of the tile: the corner element of
 // yarn_elements.hpp (bending_element) between the vertex's incoming and outgoing edges, with
-// the corner's rest curvature and the two edges' rest lengths.
+// the corner's rest curvature vector, the two edges' rest lengths and their anchor frames.
+// Under a curved coarse map an edge's anchor turns with the co-rotated frame of its first
+// vertex's copy, so the two corners that share an edge carry the same frame onto it.
 
 #include <string>
 
@@ -31,7 +33,8 @@ class YarnBendingTerm final : public PeriodicTerm<YarnBendingTerm, 3> {
     const TileCorner& c = tile().corners[static_cast<std::size_t>(e)];
     const double la = tile().edges[static_cast<std::size_t>(c.edge_in)].rest_length;
     const double lb = tile().edges[static_cast<std::size_t>(c.edge_out)].rest_length;
-    return bending_element(x[0], x[1], x[2], la, lb, c.rest_curvature, m_model, gradient, hessian, project_psd);
+    return bending_element(x[0], x[1], x[2], la, lb, frames(c), c.rest_curvature, m_model, gradient, hessian,
+                           project_psd);
   }
   bool element_sensitivity(int e, const std::array<Eigen::Vector3d, 3>& x, Vec<1>& d_energy,
                            Eigen::Matrix<double, 9, 1>& d_gradient) const {
@@ -39,12 +42,22 @@ class YarnBendingTerm final : public PeriodicTerm<YarnBendingTerm, 3> {
     const double la = tile().edges[static_cast<std::size_t>(c.edge_in)].rest_length;
     const double lb = tile().edges[static_cast<std::size_t>(c.edge_out)].rest_length;
     Vec<9> dg;
-    const bool ok = bending_element_sensitivity(x[0], x[1], x[2], la, lb, c.rest_curvature, d_energy[0], dg);
+    const bool ok =
+        bending_element_sensitivity(x[0], x[1], x[2], la, lb, frames(c), c.rest_curvature, d_energy[0], dg);
     d_gradient = dg;
     return ok;
   }
 
  private:
+  [[nodiscard]] CornerFrames frames(const TileCorner& c) const {
+    const EdgeAnchor& in = tile().edges[static_cast<std::size_t>(c.edge_in)].anchor;
+    const EdgeAnchor& out = tile().edges[static_cast<std::size_t>(c.edge_out)].anchor;
+    if (!placement().curved()) return {in, out};
+    const Eigen::Matrix3d& r_in = placement().at(c.v_prev, c.cell_prev).rotation;
+    const Eigen::Matrix3d& r_out = placement().at(c.vertex, Cell{0, 0}).rotation;
+    return {{r_in * in.tangent, r_in * in.director}, {r_out * out.tangent, r_out * out.director}};
+  }
+
   RodBending m_model;
 };
 

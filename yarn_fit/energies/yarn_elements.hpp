@@ -48,27 +48,57 @@ double stretch_element(const Vec3& x0, const Vec3& x1, double rest_length,
 
 // ---------------------------------------------------------------------------------------
 // Isotropic bending with rest curvature (6.6) at the vertex x1 between edges a = x1 − x0 and
-// b = x2 − x1. Bergou et al.'s integrated curvature binormal κb = 2 a × b / (|a||b| + a·b)
-// has magnitude κ = 2 tan(φ/2), φ the turning angle. With twist off (the default, SPEC §3)
-// there is no material frame to hold the direction of a rest curvature vector; the energy is
-// the frame-free limit of (6.6), where the frame turns freely about the tangent:
-//   W = kb / (L̄a + L̄b) · (κ − κ̄)²,   κ̄ ≥ 0 the rest curvature magnitude.
-// For κ̄ = 0 this is exactly (6.6). For κ̄ > 0 the magnitude |κb| has a cone at κb = 0; the
-// element uses κ = sqrt(|κb|² + δ²) − δ with δ = 1e-8 so value, gradient and Hessian stay
-// finite and smooth through a straight configuration (an O(δ) change in energy).
+// b = x2 − x1 (Bergou et al. 2008/2010). The integrated curvature binormal
+// κb = 2 a × b / (|a||b| + a·b) has magnitude 2 tan(φ/2), φ the turning angle; the curvature
+// vector is κb read in the material frames of the two edges, g_e = (κb·m2e, −κb·m1e), at the
+// mean of the two readings: they differ by the twist τ between the frames, and
+//   κ = (g_a + g_b) / (2 cos(τ/2))   (|κ| = |κb|: Bergou's average ½(g_a + g_b) would shrink
+//                                     by cos(τ/2), a twist that nothing restores with twist off),
+//   W = kb / (L̄a + L̄b) · ‖κ − κ̄‖²,   κ̄ the rest curvature vector of the corner.
+// For κ̄ = 0 this is the frame-free c |κb|².
+// With twist off (SPEC §3) an edge's material frame is its anchor frame (t0, d0) carried to
+// the edge's current tangent t by parallel transport, m1 = P(t0 → t) d0, m2 = t × m1: no
+// twist, and a pure function of the edge, so W is a pure function of the positions:
+// P(t0 → t) d0 = d0 − (d0·t)/(1 + t0·t) (t0 + t).
+// A rest curvature keeps its direction: turning a curved corner's bending plane about the
+// yarn costs energy, as it does in the thesis's rods (the magnitude-only form
+// (|κb| − |κ̄|)² has a ring of minima there, which leaves whole families of yarn motions
+// without stiffness and makes Newton creep on slack tiles).
 struct RodBending {
   double kb = 0.0;  // bending stiffness [N·m²]
 };
 
-// DOF order x0, x1, x2. Returns +inf when a or b has zero length or φ = π (folded back:
-// a·b ≤ −(1 − 1e-12)|a||b|), or L̄a + L̄b ≤ 0.
-double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
-                       double rest_length_b, double rest_curvature, const RodBending& model,
-                       Vec<9>* gradient, Mat<9>* hessian, bool project_psd);
+// Where an edge's material frame is carried from: a unit tangent and a unit director ⊥ it.
+struct EdgeAnchor {
+  Vec3 tangent = Vec3::UnitX();
+  Vec3 director = Vec3::UnitY();
+};
+struct CornerFrames {
+  EdgeAnchor in;   // edge a = x1 − x0
+  EdgeAnchor out;  // edge b = x2 − x1
+};
 
-// Integrated curvature magnitude κ = |κb| = 2 tan(φ/2) of the corner x0-x1-x2 (no smoothing),
-// used to reset rest curvatures (rest-shape heuristic) and by tests. +inf where
-// bending_element is (a zero-length edge, a corner folded back).
+// The anchor of an edge along `edge` (≠ 0): its tangent and a director ⊥ it, chosen the same
+// way for the same direction.
+EdgeAnchor anchor_along(const Vec3& edge);
+// `anchor` carried by parallel transport to the direction of `edge`, and turned by `rotation`
+// first (a co-rotated periodic copy). The director is re-orthogonalised against the new
+// tangent, so a map that is not a rotation still gives an orthonormal anchor.
+EdgeAnchor carried_anchor(const EdgeAnchor& anchor, const Eigen::Matrix3d& rotation, const Vec3& edge);
+
+// DOF order x0, x1, x2. Returns +inf when a or b has zero length, φ = π (folded back:
+// a·b ≤ −(1 − 1e-12)|a||b|), an edge has turned back against its anchor (t·t0 ≤ −(1 − 1e-12)),
+// or L̄a + L̄b ≤ 0.
+double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
+                       double rest_length_b, const CornerFrames& frames, const Eigen::Vector2d& rest_curvature,
+                       const RodBending& model, Vec<9>* gradient, Mat<9>* hessian, bool project_psd);
+
+// The curvature vector κ of the corner x0-x1-x2 in its material frames (the rest-shape
+// heuristic resets κ̄ to it); +inf components where bending_element is +inf.
+Eigen::Vector2d corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2, const CornerFrames& frames);
+
+// Integrated curvature magnitude |κb| = 2 tan(φ/2) of the corner x0-x1-x2 (frame-free); +inf
+// for a zero-length edge or a corner folded back.
 double corner_curvature(const Vec3& x0, const Vec3& x1, const Vec3& x2);
 
 // ---------------------------------------------------------------------------------------
@@ -124,7 +154,8 @@ bool stretch_element_sensitivity(const Vec3& x0, const Vec3& x1, double rest_len
 
 // θ = (kb): W is linear in kb.
 bool bending_element_sensitivity(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
-                                 double rest_length_b, double rest_curvature, double& d_energy, Vec<9>& d_gradient);
+                                 double rest_length_b, const CornerFrames& frames,
+                                 const Eigen::Vector2d& rest_curvature, double& d_energy, Vec<9>& d_gradient);
 
 // θ = (kc1, R1, kc2, R2). With x = D/2R, ∂e/∂R = −kc g'(x) x/R and
 // ∂e'/∂R = −kc (x g''(x) + g'(x)) / (2R²), e' = de/dD.

@@ -205,6 +205,7 @@ class PeriodicTerm : public numerics::ElementTerm<Derived, YarnTerm> {
 
  protected:
   [[nodiscard]] const YarnTile& tile() const { return *m_tile; }
+  [[nodiscard]] const TilePlacement& placement() const { return *m_placement; }
 
  private:
   const Derived& self() const { return static_cast<const Derived&>(*this); }

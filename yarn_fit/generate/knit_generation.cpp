@@ -39,7 +39,7 @@ db::PeriodicTile tile_at_rest(const db::PeriodicTile& source, const YarnSystem& 
   for (int v = 0; v < tile.vertex_count(); ++v) {
     const Eigen::Vector3d x = system.position(g, v, {0, 0});
     out.positions[static_cast<std::size_t>(v)] = {x.x(), x.y(), x.z()};
-    out.rest_curvatures[static_cast<std::size_t>(v)] = {tile.corners[static_cast<std::size_t>(v)].rest_curvature, 0.0};
+    out.rest_curvatures[static_cast<std::size_t>(v)] = {tile.corners[static_cast<std::size_t>(v)].rest_curvature.norm(), 0.0};
   }
   for (int e = 0; e < tile.edge_count(); ++e)
     out.rest_lengths[static_cast<std::size_t>(e)] = tile.edges[static_cast<std::size_t>(e)].rest_length;

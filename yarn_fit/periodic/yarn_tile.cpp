@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Geometry>
+
 namespace yarnfit::yarn {
 
 Eigen::Vector3d YarnTile::reference_at(int v, const Cell& cell) const {
@@ -54,6 +56,55 @@ bool YarnTile::same_yarn_gap(int a, int b, const Cell& cell_b, double& gap) cons
   gap = arc_b >= arc_a ? arc_b - (arc_a + len_a) : arc_a - (arc_b + len_b);
   return true;
 }
+
+namespace {
+
+// The anchors of one yarn, along its edges in the tile as read: directors carried from edge to
+// edge by parallel transport (the reference frame of discrete elastic rods), so the two frames
+// a corner averages differ only by a small twist. Around the cycle the transported director
+// comes back turned by the curve's holonomy Δ; spreading −Δ evenly over the edges closes it,
+// every corner then seeing the same twist Δ/n between its edges.
+void set_yarn_anchors(YarnTile& tile, const TileYarn& yarn) {
+  const std::size_t n = yarn.edges.size();
+  std::vector<Eigen::Vector3d> t(n), d(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const TileEdgeElement& edge = tile.edges[static_cast<std::size_t>(yarn.edges[k])];
+    const Eigen::Vector3d v = tile.reference_at(edge.v1, edge.cell1) - tile.reference_at(edge.v0, Cell{0, 0});
+    if (!(v.norm() > 0.0))
+      throw std::invalid_argument("yarn tile: edge " + std::to_string(yarn.edges[k]) + " has zero length");
+    t[k] = v.normalized();
+    d[k] = k == 0 ? anchor_along(v).director : carried_anchor({t[k - 1], d[k - 1]}, Eigen::Matrix3d::Identity(), v).director;
+  }
+  const Eigen::Vector3d back = carried_anchor({t[n - 1], d[n - 1]}, Eigen::Matrix3d::Identity(), t[0]).director;
+  const double holonomy = std::atan2(d[0].cross(back).dot(t[0]), d[0].dot(back));
+  for (std::size_t k = 0; k < n; ++k) {
+    const double turn = -holonomy * static_cast<double>(k) / static_cast<double>(n);
+    const Eigen::Vector3d director = std::cos(turn) * d[k] + std::sin(turn) * t[k].cross(d[k]);
+    tile.edges[static_cast<std::size_t>(yarn.edges[k])].anchor = {t[k], director.normalized()};
+  }
+}
+
+// Each edge's anchor (set_yarn_anchors), and each corner's rest curvature vector: the
+// magnitude of the file's *RK (tile files and generators disagree on the frame its two
+// components are in; its magnitude they share) along the direction of the corner's curvature
+// as read. A straight corner as read keeps the magnitude along the first axis.
+void set_anchors_and_rest_curvatures(YarnTile& tile, const std::vector<std::array<double, 2>>& rest) {
+  for (const TileYarn& yarn : tile.yarns) set_yarn_anchors(tile, yarn);
+  for (TileCorner& c : tile.corners) {
+    const CornerFrames frames{tile.edges[static_cast<std::size_t>(c.edge_in)].anchor,
+                              tile.edges[static_cast<std::size_t>(c.edge_out)].anchor};
+    const Eigen::Vector2d shape = corner_curvature(tile.reference_at(c.v_prev, c.cell_prev),
+                                                   tile.reference_at(c.vertex, Cell{0, 0}),
+                                                   tile.reference_at(c.v_next, c.cell_next), frames);
+    const auto& rk = rest[static_cast<std::size_t>(c.vertex)];
+    const double magnitude = std::hypot(rk[0], rk[1]);
+    const double norm = shape.norm();
+    c.rest_curvature = norm > 1e-12 && std::isfinite(norm) ? Eigen::Vector2d(magnitude * shape / norm)
+                                                           : Eigen::Vector2d(magnitude, 0.0);
+  }
+}
+
+}  // namespace
 
 YarnTile make_yarn_tile(const db::PeriodicTile& source) {
   db::PeriodicTile tile = source;
@@ -140,9 +191,8 @@ YarnTile make_yarn_tile(const db::PeriodicTile& source) {
     c.cell_prev = -in.cell1;
     c.v_next = o.v1;
     c.cell_next = o.cell1;
-    const auto& rk = tile.rest_curvatures[static_cast<std::size_t>(v)];
-    c.rest_curvature = std::hypot(rk[0], rk[1]);
   }
+  set_anchors_and_rest_curvatures(out, tile.rest_curvatures);
   return out;
 }
 
@@ -150,6 +200,7 @@ YarnTile transformed_tile(const YarnTile& tile, const Eigen::Matrix2d& map) {
   YarnTile out = tile;
   out.lattice = map * tile.lattice;
   for (auto& x : out.reference) x.head<2>() = map * x.head<2>();
+
   for (auto& y : out.yarns) {
     const Eigen::Vector2d dir = map * y.slide_direction.head<2>();
     y.slide_direction = Eigen::Vector3d(dir.x(), dir.y(), 0.0).normalized();
@@ -160,7 +211,11 @@ YarnTile transformed_tile(const YarnTile& tile, const Eigen::Matrix2d& map) {
 YarnTile rotated_tile(const YarnTile& tile, double angle) {
   Eigen::Matrix2d rot;
   rot << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-  return transformed_tile(tile, rot);
+  YarnTile out = transformed_tile(tile, rot);
+  Eigen::Matrix3d rot3 = Eigen::Matrix3d::Identity();
+  rot3.topLeftCorner<2, 2>() = rot;
+  for (auto& e : out.edges) e.anchor = {rot3 * e.anchor.tangent, rot3 * e.anchor.director};
+  return out;
 }
 
 db::PeriodicTile repeat_tile(const db::PeriodicTile& tile, int nx, int ny) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "yarn_fit/energies/yarn_elements.hpp"
 
 namespace yarnfit::yarn {
 
@@ -41,6 +42,7 @@ struct TileEdgeElement {
   int yarn = 0;
   double arc_start = 0.0;    // input rest length along the yarn before this edge [m]
   Cell cycle_cell;           // cell of v0 relative to the yarn's first vertex, walking the cycle
+  EdgeAnchor anchor;         // where its material frame is carried from (the tile as read)
 };
 
 struct TileCorner {
@@ -51,7 +53,9 @@ struct TileCorner {
   Cell cell_next;
   int edge_in = 0;             // edge v_prev -> vertex
   int edge_out = 0;            // edge vertex -> v_next
-  double rest_curvature = 0.0; // κ̄ ≥ 0, integrated curvature magnitude
+  // κ̄: the rest curvature vector in the corner's material frames (rod_bending); the tile
+  // file's *RK gives its magnitude and the tile's shape as read its direction.
+  Eigen::Vector2d rest_curvature = Eigen::Vector2d::Zero();
 };
 
 struct TileYarn {
@@ -96,12 +100,14 @@ struct YarnTile {
 // Throws std::invalid_argument if the tile's edges do not form closed cycles.
 YarnTile make_yarn_tile(const db::PeriodicTile& tile);
 
-// The tile rotated in-plane by `angle` [rad] about the centroid: reference positions and
-// lattice turn together (used for invariance checks and arbitrary material frames).
+// The tile rotated in-plane by `angle` [rad] about the centroid: reference positions, lattice
+// and the edges' frame anchors turn together (used for invariance checks and arbitrary
+// material frames).
 YarnTile rotated_tile(const YarnTile& tile, double angle);
 
-// The tile's reference positions and lattice mapped by an in-plane linear map (rest lengths
-// and curvatures unchanged): used to rotate a tile and to adjust its period at rest.
+// The tile's reference positions and lattice mapped by an in-plane linear map (rest lengths,
+// curvatures and frame anchors unchanged, so the energy's change with the map is the coarse
+// stress's work): used to adjust a tile's period at rest, and by rotated_tile.
 YarnTile transformed_tile(const YarnTile& tile, const Eigen::Matrix2d& map);
 
 // The pyp tile repeated nx × ny times (a larger but equivalent tile, for checks that the

@@ -79,16 +79,20 @@ TEST(ElementSensitivity, BendingIsLinearInKb) {
     const Vec3 a = random_unit(rng);
     const Vec3 x0 = x1 - edge_length * a;
     const Vec3 x2 = x1 + 1.1 * edge_length * turned(a, uniform(rng, 0.05, 2.0), rng);
-    const double rest_curvature = trial % 3 == 0 ? 0.0 : uniform(rng, 0.1, 1.5);
+    const double rest_magnitude = trial % 3 == 0 ? 0.0 : uniform(rng, 0.1, 1.5);
+    const double rest_angle = uniform(rng, -pi, pi);
+    const Eigen::Vector2d rest_curvature = rest_magnitude * Eigen::Vector2d(std::cos(rest_angle), std::sin(rest_angle));
+    const EdgeAnchor in = anchor_along(turned(a, uniform(rng, 0.0, 0.5), rng));
+    const CornerFrames frames{in, carried_anchor(in, Eigen::Matrix3d::Identity(), x2 - x1)};
     double d_energy = 0.0;
     Vec<9> d_gradient;
-    ASSERT_TRUE(bending_element_sensitivity(x0, x1, x2, edge_length, 0.9 * edge_length, rest_curvature, d_energy,
-                                            d_gradient));
+    ASSERT_TRUE(bending_element_sensitivity(x0, x1, x2, edge_length, 0.9 * edge_length, frames, rest_curvature,
+                                            d_energy, d_gradient));
     const double kb = 0.1 * ks2 * yarn_radius * yarn_radius / 4.0;
     const auto eval = [&](double theta) {
       Vec<9> g;
-      const double w = bending_element(x0, x1, x2, edge_length, 0.9 * edge_length, rest_curvature, RodBending{theta}, &g,
-                                       nullptr, false);
+      const double w = bending_element(x0, x1, x2, edge_length, 0.9 * edge_length, frames, rest_curvature,
+                                       RodBending{theta}, &g, nullptr, false);
       return std::pair<double, Eigen::VectorXd>{w, g};
     };
     const auto r = sweep_parameter(eval, kb, d_energy, d_gradient, 1e-300, 1e-300);

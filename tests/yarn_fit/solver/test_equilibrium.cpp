@@ -92,13 +92,13 @@ struct SlackSatin {
   }
 };
 
-// Issue 17: on a loose woven tile at small stretch the yarns are slack, contacts enter at the
-// barrier's sixth-order onset, and Newton creeps with residual forces near 1e-5 N (200 times
-// the force tolerance) for hundreds of iterations. The stress read-out test ends the solve once
-// the coarse stress has settled. A solve run ten times longer slides further along a mechanism
-// (its energy falls 2.6×) and its stress differs by 3.6 tolerances (0.016 N/m): the bound here
-// is 1 % of the tile's stress at 8 % weft (5.8 N/m), far below what a fit compares.
-TEST(SlackTile, StressReadoutTestEndsACreepingSolveAtTheLongSolvesStress) {
+// Issue 17: on this loose woven tile at small stretch Newton crept with residual forces near
+// 1e-5 N for hundreds of iterations, and the stress read-out test had to end the solve.
+// Issue 37 found the cause in the bending energy's magnitude form (a ring of minima: a corner's
+// bending plane turned freely about the yarn). With the rest curvature a vector in carried
+// frames the same solve converges to the force tolerance in tens of iterations, and a solve
+// with the read-out test off lands on the same stress.
+TEST(SlackTile, ASmallStretchConvergesInTensOfIterationsWithOrWithoutTheStressTest) {
   YARNFIT_REQUIRE_SHARED(kPatterns + "satin_small.pyp");
   SlackSatin satin;
   YarnSystem& system = *satin.system;
@@ -110,35 +110,38 @@ TEST(SlackTile, StressReadoutTestEndsACreepingSolveAtTheLongSolvesStress) {
   const EquilibriumResult quick = solve_equilibrium(system, g);
   const Eigen::Matrix2d p_quick = system.coarse_stress(g);
 
-  Eigen::VectorXd g_long = satin.rest;
+  Eigen::VectorXd g_exact = satin.rest;
   EquilibriumOptions exact;
   exact.stress_tolerance = 0.0;
-  exact.max_iterations = 3000;
-  const EquilibriumResult long_solve = solve_equilibrium(system, g_long, exact);
-  const Eigen::Matrix2d p_long = system.coarse_stress(g_long);
-  std::printf("quick: %s\nlong:  %s\nP quick (%.5g, %.5g, %.5g)  long (%.5g, %.5g, %.5g) N/m, tolerance %.3g\n",
-              quick.brief().c_str(), long_solve.brief().c_str(), p_quick(0, 0), p_quick(1, 1), p_quick(0, 1),
-              p_long(0, 0), p_long(1, 1), p_long(0, 1), tolerance);
+  const EquilibriumResult exact_solve = solve_equilibrium(system, g_exact, exact);
+  const Eigen::Matrix2d p_exact = system.coarse_stress(g_exact);
+  std::printf("quick: %s\nexact: %s\nP quick (%.5g, %.5g, %.5g)  exact (%.5g, %.5g, %.5g) N/m, tolerance %.3g\n",
+              quick.brief().c_str(), exact_solve.brief().c_str(), p_quick(0, 0), p_quick(1, 1), p_quick(0, 1),
+              p_exact(0, 0), p_exact(1, 1), p_exact(0, 1), tolerance);
   ASSERT_TRUE(quick.converged()) << quick.brief();
-  EXPECT_LE(quick.iterations, 300) << quick.brief();
-  EXPECT_LT(quick.iterations * 5, std::max(long_solve.iterations, 1)) << "the long solve is the reference";
-  EXPECT_LE((p_quick - p_long).cwiseAbs().maxCoeff(), 0.01 * 5.8);
+  ASSERT_TRUE(exact_solve.converged()) << exact_solve.brief();
+  EXPECT_LE(quick.iterations, 30) << quick.brief();
+  EXPECT_LE(exact_solve.iterations, 30) << exact_solve.brief();
+  EXPECT_LE((p_quick - p_exact).cwiseAbs().maxCoeff(), tolerance);
   EXPECT_GT(system.min_contact_distance(g), 0.0);
 }
 
-// The sweep of the issue's goal table, over the first stretches where every point used to
-// stop at the iteration cap (0–3 % weft of 0–7 %; bench_yarn_fit loose runs all 23 points in
-// three directions): every point now converges, each with its free compression.
+// The first stretches of the weft sweep, where every point once stopped at the iteration cap:
+// every point converges with its free compression within the issue's 30 iterations a point
+// (bench_yarn_fit slack runs all 23 points in three directions), the stress rising with s.
 TEST(SlackTile, WeftSweepOverTheSlackRangeConvergesAtEveryPoint) {
   YARNFIT_REQUIRE_SHARED(kPatterns + "satin_small.pyp");
   SlackSatin satin;
   Eigen::VectorXd g = satin.rest;
   const StretchSweep sweep = sweep_stretch(*satin.system, weft_angle(), even_stretches(0.03, 4), g);
+  double previous = -1.0;
   for (const Sample& s : sweep.points) {
     std::printf("  s %.2f  c %.4f  sigma_s %.4g N/m  %d iterations in %d solves  %s\n", s.chi.stretch,
                 s.chi.compression, s.stress_s, s.newton_iterations, s.solves, s.ok ? "ok" : s.message.c_str());
     EXPECT_TRUE(s.ok) << s.chi.stretch << ": " << s.message;
-    EXPECT_LT(std::abs(s.stress_s), 5.0) << "slack range: far below the 8 % point's 5.8 N/m";
+    EXPECT_LE(s.newton_iterations, 30) << s.chi.stretch;
+    EXPECT_GT(s.stress_s, previous) << s.chi.stretch;
+    previous = s.stress_s;
   }
   EXPECT_EQ(sweep.failures, 0);
 }
