@@ -28,14 +28,6 @@ int reset_rest_shape(YarnSystem& system, const Eigen::VectorXd& g, double max_le
                                                system.position(g, c.v_next, c.cell_next), frames);
     if (k.allFinite()) c.rest_curvature += omega * (k - c.rest_curvature);
   }
-  // Re-anchor every edge's frame where it is now (the frame carried there, so κ̄ keeps its
-  // meaning): frames are carried from the last rest shape rather than from the tile as read,
-  // as a rod simulation carries them from its previous step, and a tile written from this
-  // state and read back gets the same frames.
-  for (auto& edge : tile.edges) {
-    const Eigen::Vector3d now = system.position(g, edge.v1, edge.cell1) - system.position(g, edge.v0, {0, 0});
-    if (now.norm() > 0.0) edge.anchor = carried_anchor(edge.anchor, Eigen::Matrix3d::Identity(), now);
-  }
   return clamped;
 }
 
