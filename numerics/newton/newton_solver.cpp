@@ -208,6 +208,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
 
     bool accepted = false;
     bool floor_step = false;  // accepted at the precision floor without a line search
+    bool unshifted_at_floor = false;
     bool limited = false;
     bool factorised_once = false;
     int failed_attempts = 0;
@@ -292,6 +293,13 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
         if (std::isfinite(e) && residual_of(trial_gradient) < options.floor_residual_factor * residual) {
           x.swap(trial);
           accepted = floor_step = true;
+        } else if (shift > 0.0 && !unshifted_at_floor) {
+          // A shifted step converges only linearly, and at the floor that can stall above the
+          // tolerance; the energy is then within rounding of its minimum, where the shift's
+          // safeguard is not needed: once more with the unshifted Hessian.
+          unshifted_at_floor = true;
+          shift = 0.0;
+          continue;
         }
         break;
       }

@@ -20,7 +20,12 @@ TEST(ResidualJacobian, MatchesCentralDifferencesInASmoothCase) {
   const testcase::Stockinette st = testcase::load_stockinette();
   yarn::YarnParams truth = st.soft_toe_params();
   truth.eps_s = 0.05;  // beyond every yarn strain up to 20 % stretch: no kink of the biphasic law
-  const auto targets = st.synthesise(truth, {db::Direction::weft, db::Direction::bias}, 0.2, 5).targets;
+  auto targets = st.synthesise(truth, {db::Direction::weft, db::Direction::bias}, 0.2, 5).targets;
+  // The targets' c moved off the simulated roots: at s = 0 the rest state makes c* = 0 at any
+  // parameters it was relaxed for, so the read-out would sit inside its (narrow) band there, a
+  // plateau whose edge is a kink a difference step can cross.
+  for (auto& t : targets)
+    for (auto& point : t.stretch) point.compression += 2e-3;
   ObjectiveOptions o;
   o.samples = 3;
   o.compression_stress_fraction = 1e-8;
