@@ -33,6 +33,7 @@
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/homogenise/rest_shape.hpp"
+#include "yarn_fit/generate/slack_figures.hpp"
 #include "yarn_fit/generate/slack_tiles.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
@@ -195,55 +196,26 @@ void curve(const Prepared& p, double angle, const char* direction, double max_st
 }
 
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(std::min<double>(v.size() - 1, std::floor(q * (v.size() - 1) + 0.5)))];
-}
-
-// Issue 37's table for one tile: the 0–22 % free-compression sweeps (23 points) in weft, bias
-// and warp from the rest state: points converged, Newton iterations per point (every solve of
-// the point's compression search), and the energy–stress consistency
-// |ΔΨ − ½(σ_i + σ_{i−1})Δs| / |ΔΨ| over the intervals with s ≥ 5 % (at the free compression
-// dΨ/ds = σ_s, so the trapezoid of σ_s must give the energy's change).
-struct SlackFigures {
-  int points = 0, converged = 0;
-  std::vector<double> iterations, consistency;
-  double seconds = 0.0;
-};
-
+// Issue 37's table for one tile (yarn_fit/generate/slack_figures.hpp), with its per-point
+// iterations.
 SlackFigures slack_sweeps(const Prepared& p, bool print_points) {
-  SlackFigures f;
   std::printf("%s (%d vertices): rest shape %.2f s, %d Newton iterations, %s\n", p.name.c_str(),
               static_cast<int>(p.tile.reference.size()), p.rest_shape.seconds, p.rest_shape.newton_iterations,
               p.rest_shape.converged ? "converged" : ("NOT converged: " + p.rest_shape.last_solve.message).c_str());
-  for (const auto& [angle, direction] : {std::pair{weft_angle(), "weft"}, {bias_angle(), "bias"}, {warp_angle(), "warp"}}) {
-    YarnSystem system(p.tile, p.params);
-    Eigen::VectorXd g = p.rest;
-    const StretchSweep sweep = sweep_stretch(system, angle, even_stretches(0.22, 23), g);
+  const SlackFigures f = sweep_slack_tile(p.tile, p.params, p.rest);
+  for (const SlackDirection& d : f.directions) {
     std::string per_point;
     int converged = 0, most = 0;
-    for (std::size_t i = 0; i < sweep.points.size(); ++i) {
-      const Sample& s = sweep.points[i];
+    for (const Sample& s : d.sweep.points) {
       converged += s.ok ? 1 : 0;
       most = std::max(most, s.newton_iterations);
-      f.iterations.push_back(s.newton_iterations);
       per_point += " " + std::to_string(s.newton_iterations) + (s.ok ? "" : "!");
-      const Sample& before = sweep.points[i > 0 ? i - 1 : 0];
-      if (i > 0 && s.ok && before.ok && before.chi.stretch >= 0.05 - 1e-12) {
-        const double d_psi = s.energy_density - before.energy_density;
-        const double trapezoid = 0.5 * (s.stress_s + before.stress_s) * (s.chi.stretch - before.chi.stretch);
-        f.consistency.push_back(std::abs(d_psi - trapezoid) / std::max(std::abs(d_psi), 1e-300));
-      }
       if (print_points && !s.ok) std::printf("       s %.2f: %s\n", s.chi.stretch, s.message.c_str());
     }
-    f.points += static_cast<int>(sweep.points.size());
-    f.converged += converged;
-    f.seconds += sweep.seconds;
     std::printf("  %-4s %2d of %zu converged, at most %5d iterations a point, %6d in all, %.2f s\n"
                 "       iterations per point (! = not converged):%s\n",
-                direction, converged, sweep.points.size(), most, sweep.newton_iterations, sweep.seconds,
-                per_point.c_str());
+                d.direction.c_str(), converged, d.sweep.points.size(), most, d.sweep.newton_iterations,
+                d.sweep.seconds, per_point.c_str());
   }
   return f;
 }
@@ -261,11 +233,9 @@ void slack_table(const std::string& shared, bool print_points) {
               "  %-16s %9s %12s %12s %14s %9s   %s\n", "tile", "converged", "median its", "max its",
               "consistency", "90th", "verdict");
   for (const auto& [name, f] : rows) {
-    const double med = percentile(f.iterations, 0.5), most = percentile(f.iterations, 1.0);
-    const double cmed = percentile(f.consistency, 0.5), c90 = percentile(f.consistency, 0.9);
-    const bool met = f.converged == f.points && med <= 30 && most <= 200 && cmed <= 0.01 && c90 <= 0.05;
     std::printf("  %-16s %4d/%-4d %12.0f %12.0f %12.2f %% %7.2f %%   %s (%.1f s)\n", name.c_str(), f.converged, f.points,
-                med, most, 100 * cmed, 100 * c90, met ? "met" : "MISSED", f.seconds);
+                f.median_iterations(), f.max_iterations(), 100 * f.consistency_median(), 100 * f.consistency_90th(),
+                f.meets() ? "met" : "MISSED", f.seconds);
   }
   std::printf("  goals: all converge; iterations per point median <= 30, max <= 200; consistency median <= 1 %%, "
               "90th <= 5 %%\n");

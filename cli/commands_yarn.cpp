@@ -228,7 +228,11 @@ int run_yarn_curve(const YarnCurveArgs& a) {
       const auto f = [&](double v) { return s.ok ? db::format_g(v, 5) : std::string("-"); };
       std::cout << "  " << std::setw(9) << db::format_g(s.chi.stretch, 4) << std::setw(13) << f(s.chi.compression)
                 << std::setw(13) << f(s.energy_density) << std::setw(15) << f(s.stress_s) << std::setw(12)
-                << s.newton_iterations << std::setw(9) << db::format_g(s.seconds, 3) << "\n";
+                << s.newton_iterations << std::setw(9) << db::format_g(s.seconds, 3);
+      if (s.ok && s.flat)
+        std::cout << "  flat in c over [" << db::format_g(s.band_lower, 4) << ", " << db::format_g(s.band_upper, 4)
+                  << "]: c of smallest |c|";
+      std::cout << "\n";
     }
     std::cout << "  wrote " << a.out << (a.dump_dir.empty() ? "" : " and OBJ states in " + a.dump_dir) << " ("
               << db::format_g(seconds_since(start), 3) << " s in all)\n";

@@ -471,6 +471,11 @@ nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) 
         {"compression_pct", d.compression_pct},
         {"comfort_stretch", d.scale.comfort_stretch},
         {"objective", d.value},
+        // Samples whose Ψ(c) was flat (the compression read at the targets' c inside the
+        // band, so it adds no compression error) or had no stable c (held where accepted).
+        {"samples", d.stretch.size()},
+        {"flat_compressions", d.flat},
+        {"held_compressions", d.held},
     };
   }
   for (const auto& b : r.bending.directions) {

@@ -1,5 +1,7 @@
 #include "numerics/linear/shifted_ldlt.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -84,9 +86,28 @@ bool ShiftedLdlt::factorise(double shift) {
     ++m_analyses;
   }
   m_solver.factorize(m_matrix);
+  m_negative_pivots = -1;
   if (m_solver.info() != Eigen::Success) return false;
+  const auto d = m_solver.vectorD();
+  if (!d.allFinite() || (d.array() == 0.0).any()) return false;
+  m_negative_pivots = static_cast<int>((d.array() < 0.0).count());
   // A positive D makes LDLᵀ positive definite, so the solve gives a descent direction.
-  return m_n == 0 || m_solver.vectorD().minCoeff() > 0.0;
+  return m_negative_pivots == 0;
+}
+
+bool positive_definite_on_constraints(const ShiftedLdlt& k, const Eigen::MatrixXd& c) {
+  const int negative = k.negative_pivots();
+  if (negative < 0 || negative > c.rows()) return false;
+  const Eigen::MatrixXd y = k.solve(Eigen::MatrixXd(c.transpose()));
+  const Eigen::MatrixXd schur = c * y;
+  if (!schur.allFinite()) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (schur + schur.transpose()), Eigen::EigenvaluesOnly);
+  if (eig.info() != Eigen::Success) return false;
+  const Eigen::VectorXd lambda = eig.eigenvalues();
+  // A Schur eigenvalue at the rounding of zero would make the count a coin toss: not trusted.
+  const double noise = 1e-12 * lambda.cwiseAbs().maxCoeff();
+  if ((lambda.array().abs() <= noise).any()) return false;
+  return (lambda.array() < 0.0).count() == negative;
 }
 
 Eigen::MatrixXd solve_constrained(const ShiftedLdlt& k, const Eigen::MatrixXd* c, const Eigen::LDLT<Eigen::MatrixXd>* cct,

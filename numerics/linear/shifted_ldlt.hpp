@@ -32,6 +32,9 @@ class ShiftedLdlt {
   [[nodiscard]] double relative_min_diagonal() const;
   // Factorises H + shift·d̄·I; false if that is not positive definite.
   bool factorise(double shift);
+  // After factorise: the number of negative pivots of D (the negative eigenvalues of the
+  // shifted matrix, by Sylvester's law of inertia), or −1 when the factorisation broke down.
+  [[nodiscard]] int negative_pivots() const { return m_negative_pivots; }
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return m_solver.solve(rhs); }
   [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const { return m_solver.solve(rhs); }
   [[nodiscard]] int size() const { return m_n; }
@@ -56,6 +59,7 @@ class ShiftedLdlt {
   std::vector<int> m_triplet_rows, m_triplet_cols, m_triplet_slot;
   int m_analyses = 0;
   int m_scattered = 0;
+  int m_negative_pivots = -1;
 };
 
 // Solves the equality-constrained system  [K Cᵀ; C 0] [Z; Λ] = [B; 0]  for every column of B
@@ -65,6 +69,14 @@ class ShiftedLdlt {
 // C z = 0. Without constraints (c null or empty) Z = K⁻¹ B.
 Eigen::MatrixXd solve_constrained(const ShiftedLdlt& k, const Eigen::MatrixXd* c, const Eigen::LDLT<Eigen::MatrixXd>* cct,
                                   const Eigen::MatrixXd& rhs);
+
+// True when K (factorised, possibly indefinite) is positive definite on C z = 0, so that the
+// constrained solve below minimises a convex quadratic there. By the inertia of the KKT
+// matrix: that holds exactly when the Schur complement C K⁻¹ Cᵀ has as many negative
+// eigenvalues as K has (Gould 1985; Nocedal & Wright, Thm 16.3), which K's pivots count.
+// The tiles' Hessians need it: a yarn in tension may lower its energy by sliding along itself
+// with the whole tile moving against it, a direction only the constraints forbid.
+bool positive_definite_on_constraints(const ShiftedLdlt& k, const Eigen::MatrixXd& c);
 
 // The same for many solves with one factorisation: Y = K⁻¹Cᵀ and the Schur complement C Y are
 // computed once.

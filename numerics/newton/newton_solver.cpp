@@ -244,7 +244,10 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     while (!accepted) {
       if (options.max_failed_attempts > 0 && failed_attempts >= options.max_failed_attempts) break;
       ++summary.factorisations;
-      if (!factor.factorise(shift)) {
+      const bool definite = factor.factorise(shift) ||
+                            (exact && c != nullptr && options.accept_definite_on_constraints &&
+                             positive_definite_on_constraints(factor, *c));
+      if (!definite) {
         last_failure = "the shifted Hessian was not positive definite";
         if (exact && shift < options.exact_shift_limit) {
           shift = std::max(shift * options.exact_shift_growth, options.exact_shift_floor);

@@ -158,6 +158,11 @@ struct NewtonOptions {
   double limited_step_growth = 1.0;
   // A non-positive diagonal entry rules out positive definiteness: start μ past it.
   bool shift_past_nonpositive_diagonal = true;
+  // With constraints: an exact Hessian that is indefinite but positive definite on C δ = 0
+  // (positive_definite_on_constraints, shifted_ldlt.hpp) gives the constrained Newton step as
+  // it is, without a shift. A shift large enough to make the whole Hessian positive definite
+  // would slow convergence to a linear rate along the soft directions the constraints keep.
+  bool accept_definite_on_constraints = false;
 
   PrecisionFloor precision_floor = PrecisionFloor::first_trial_change;
   double floor_residual_factor = 0.5;

@@ -98,6 +98,57 @@ struct CompressionSearch {
   }
 };
 
+// The band of c around the root `at_root` (the search's last converged evaluation) in which
+// |∂Ψ/∂c| ≤ co.band_stress. From the slope when it shows a band within ±flat_band; else each
+// end by a root search of ∂Ψ/∂c ∓ band_stress outwards from the root (an end the search does
+// not find inside [lower, upper] is that bound). A flat band moves the sample to the band's c
+// of smallest |c|. `g_root` is the root's state; `g` returns the state of the sample kept.
+Sample read_band(CompressionSearch& search, Sample at_root, const Eigen::VectorXd& g_root, const CompressionOptions& co,
+                 Eigen::VectorXd& g) {
+  const double c0 = at_root.chi.compression;
+  const double tau = co.band_stress;
+  g = g_root;
+  const double slope = search.slope() > 0.0 ? search.slope() : co.initial_slope;
+  if (slope > 0.0 && tau / slope <= co.flat_band) {
+    at_root.band_lower = c0 - at_root.stress_c / slope - tau / slope;
+    at_root.band_upper = c0 - at_root.stress_c / slope + tau / slope;
+    return at_root;
+  }
+  const auto end = [&](double sign) -> std::optional<double> {
+    numerics::RootFindOptions ro;
+    ro.lower = sign < 0.0 ? co.lower : c0;
+    ro.upper = sign < 0.0 ? c0 : co.upper;
+    ro.initial_step = co.flat_band;
+    ro.x_tolerance = std::max(co.tolerance, 1e-3 * co.flat_band);
+    ro.max_evaluations = co.max_evaluations;
+    const numerics::RootResult r = numerics::find_root(
+        [&](double c) -> std::optional<double> {
+          const Sample s = search.at(c);
+          if (!s.ok) return std::nullopt;
+          return s.stress_c - sign * tau;
+        },
+        std::clamp(c0 + sign * co.flat_band, co.lower, co.upper), ro);
+    if (r.converged()) return r.x;
+    if (r.status == numerics::RootStatus::not_bracketed) return sign < 0.0 ? co.lower : co.upper;
+    return std::nullopt;  // the band's end is unknown: the root stands without a band
+  };
+  search.anchor = g_root;
+  const std::optional<double> lower = end(-1.0), upper = end(1.0);
+  if (!lower || !upper) return at_root;
+  at_root.band_lower = *lower;
+  at_root.band_upper = *upper;
+  at_root.flat = *upper - *lower > 2.0 * co.flat_band;
+  if (!at_root.flat) return at_root;
+  const double c = std::clamp(0.0, *lower, *upper);
+  Sample moved = search.at(c);
+  if (!moved.ok) return at_root;  // the root is still a valid answer
+  moved.band_lower = *lower;
+  moved.band_upper = *upper;
+  moved.flat = true;
+  g = search.g;
+  return moved;
+}
+
 }  // namespace
 
 Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::VectorXd& g,
@@ -157,9 +208,17 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
     }
   }
   if (result.ok) g = co.method == CompressionMethod::cobyla ? search.best_g : search.g;
+  if (result.ok && co.method == CompressionMethod::root_find && co.band_stress > 0.0) {
+    const double slope = search.slope();
+    const Eigen::VectorXd g_root = g;
+    result = read_band(search, result, g_root, co, g);
+    if (slope > 0.0) result.stress_c_slope = slope;  // the root's, not the band search's
+    else result.stress_c_slope = search.slope();
+  } else {
+    result.stress_c_slope = search.slope();
+  }
   result.solves = search.evaluations;
   result.newton_iterations = search.iterations;
-  result.stress_c_slope = search.slope();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -12,6 +12,7 @@
 // read-out fail with that status instead of returning a number.
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,14 @@ struct Sample {
   EquilibriumResult last_solve;
   std::vector<std::string> effects;
   std::string message;               // why ok is false
+  // solve_free_compression with CompressionOptions::band_stress > 0: the band of c around the
+  // root in which |∂Ψ/∂c| ≤ band_stress (an end the search interval cut is that bound; NaN
+  // when not read), and whether Ψ is flat in c there (band wider than ±flat_band): the
+  // sample is then the equilibrium at the band's c of smallest |c|, a defined answer where
+  // any c of the band is free of orthogonal stress.
+  double band_lower = std::numeric_limits<double>::quiet_NaN();
+  double band_upper = std::numeric_limits<double>::quiet_NaN();
+  bool flat = false;
 };
 
 // Equilibrium at χ, warm-started from `g` (updated in place), then the read-outs.
@@ -63,6 +72,11 @@ struct CompressionOptions {
   double initial_slope = 0.0;
   int max_evaluations = 60;
   double initial_guess = 0.0;
+  // Root find only, > 0 [N/m]: read the band where |∂Ψ/∂c| ≤ band_stress (Sample::band_*),
+  // from the slope at the root when it shows a band narrower than ±flat_band, else by a
+  // search for each end; a band wider than that is flat (Sample::flat).
+  double band_stress = 0.0;
+  double flat_band = 0.05;
 };
 
 // c*(s) with Ψ minimal over c at chi's stretch, direction and curvature (chi.compression is

@@ -200,7 +200,6 @@ YarnTile transformed_tile(const YarnTile& tile, const Eigen::Matrix2d& map) {
   YarnTile out = tile;
   out.lattice = map * tile.lattice;
   for (auto& x : out.reference) x.head<2>() = map * x.head<2>();
-
   for (auto& y : out.yarns) {
     const Eigen::Vector2d dir = map * y.slide_direction.head<2>();
     y.slide_direction = Eigen::Vector3d(dir.x(), dir.y(), 0.0).normalized();

@@ -117,12 +117,16 @@ json sample_json(const YarnScene& scene, const SceneSampleRequest& r, const Scen
 std::string sweep_csv(const std::string& direction, const StretchSweep& sweep) {
   std::ostringstream csv;
   csv << "direction,stretch,compression,energy_density_J_per_m2,stress_s_N_per_m,converged,newton_iterations,seconds,"
-         "solves,stress_c_N_per_m,termination\n";
+         "solves,stress_c_N_per_m,termination,compression_band_lower,compression_band_upper,flat\n";
   for (const auto& s : sweep.points) {
+    // The band where the orthogonal stress is within the read-out tolerance; flat = 1: Ψ is
+    // flat in c over it and c is the band's point of smallest |c| (readouts.hpp).
+    const bool band = s.ok && std::isfinite(s.band_lower) && std::isfinite(s.band_upper);
     csv << direction << "," << db::format_g(s.chi.stretch, 12) << "," << csv_number(s.ok, s.chi.compression) << ","
         << csv_number(s.ok, s.energy_density) << "," << csv_number(s.ok, s.stress_s) << "," << (s.ok ? 1 : 0) << ","
         << s.newton_iterations << "," << db::format_g(s.seconds, 6) << "," << s.solves << ","
-        << csv_number(s.ok, s.stress_c) << "," << termination(s) << "\n";
+        << csv_number(s.ok, s.stress_c) << "," << termination(s) << "," << csv_number(band, s.band_lower) << ","
+        << csv_number(band, s.band_upper) << "," << (s.ok && s.flat ? 1 : 0) << "\n";
   }
   return csv.str();
 }

@@ -23,6 +23,7 @@ StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<d
   out.points.reserve(stretches.size());
   if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());
   CompressionOptions compression = options.compression;
+  if (compression.band_stress == 0.0) compression.band_stress = default_stress_tolerance(system);
   for (std::size_t i = 0; i < stretches.size(); ++i) {
     const CoarseDeformation chi{stretches[i], compression.initial_guess, 0.0, angle};
     Sample s = solve_free_compression(system, chi, g, compression, options.solve);

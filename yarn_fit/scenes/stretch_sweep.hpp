@@ -16,7 +16,9 @@
 namespace yarnfit::yarn {
 
 struct StretchSweepOptions {
-  CompressionOptions compression;  // initial_guess is used for the first point only
+  // initial_guess is used for the first point only; band_stress 0 reads each point's
+  // compression band at the solve's stress tolerance (default_stress_tolerance), < 0 not at all.
+  CompressionOptions compression;
   EquilibriumOptions solve;
   // Called after each point with its index, its sample and the state it ended in (the
   // point's equilibrium at sample.chi when sample.ok, else the warm start the next point

@@ -104,6 +104,9 @@ numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, con
   o.shift_floor = 1e-10;
   o.limited_step_growth = 4.0;
   o.shift_past_nonpositive_diagonal = false;
+  // The tile's Hessian is indefinite along a yarn sliding through itself against the tile,
+  // which the constraints forbid: positive definite on them is enough for the exact step.
+  o.accept_definite_on_constraints = true;
   o.precision_floor = numerics::PrecisionFloor::predicted_decrease;
   o.floor_residual_factor = 1.0;
   o.roundoff_converged_factor = 1e3;

@@ -2,7 +2,8 @@
 // minimisers (tests/support/test_energy_terms.hpp), with the shell's settings (the defaults)
 // and with the yarn's (yarn_fit/solver/equilibrium.cpp): convergence, the shift on indefinite
 // Hessians, a line search that never leaves the domain, constrained steps, the step-bound
-// hook, and every failure reported in the summary.
+// hook, an indefinite Hessian that the constraints make definite (the inertia test), and
+// every failure reported in the summary.
 
 #include <gtest/gtest.h>
 
@@ -340,6 +341,82 @@ TEST(NewtonSolver, ReadoutTestEndsALinearlyConvergingSolveWithinItsTolerance) {
   options.readout_steps = 3;
   options.readout_tolerance = -1.0;
   EXPECT_FALSE(options.is_valid(nullptr));
+}
+
+}  // namespace
+}  // namespace yarnfit::numerics
+
+namespace yarnfit::numerics {
+namespace {
+
+// H = Q diag(2, 1, −1) Qᵀ, Q a rotation: indefinite, with its negative direction q2.
+Eigen::Matrix3d indefinite_hessian(Eigen::Matrix3d& q) {
+  q = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()).toRotationMatrix();
+  return q * Eigen::Vector3d(2.0, 1.0, -1.0).asDiagonal() * q.transpose();
+}
+
+bool factorise(ShiftedLdlt& f, const Eigen::Matrix3d& h, double shift) {
+  Triplets lower;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c <= r; ++c) lower.emplace_back(r, c, h(r, c));
+  f.assemble(3, lower);
+  return f.factorise(shift);
+}
+
+TEST(ShiftedLdlt, CountsNegativePivotsAndTellsDefinitenessOnTheConstraintsNullSpace) {
+  Eigen::Matrix3d q;
+  const Eigen::Matrix3d h = indefinite_hessian(q);
+  ShiftedLdlt f;
+  EXPECT_FALSE(factorise(f, h, 0.0));
+  EXPECT_EQ(f.negative_pivots(), 1);
+  // C forbids the negative direction: H is positive definite on C z = 0.
+  const Eigen::MatrixXd forbids = q.col(2).transpose();
+  EXPECT_TRUE(positive_definite_on_constraints(f, forbids));
+  // C forbids a positive direction: q2 stays free, H is not positive definite there.
+  const Eigen::MatrixXd keeps = q.col(0).transpose();
+  EXPECT_FALSE(positive_definite_on_constraints(f, keeps));
+  // The negative and one positive direction forbidden: the free one is positive.
+  Eigen::MatrixXd two(2, 3);
+  two << q.col(2).transpose(), q.col(0).transpose();
+  EXPECT_TRUE(positive_definite_on_constraints(f, two));
+  // A definite matrix: no negative pivots.
+  // Shifted past the negative eigenvalue (a relative shift of 1.5 / mean |diag|): definite.
+  ShiftedLdlt g;
+  EXPECT_TRUE(factorise(g, h, 1.5 / f.mean_diagonal()));
+  EXPECT_EQ(g.negative_pivots(), 0);
+}
+
+// The constrained minimum of ½(x − c)ᵀH(x − c) with H indefinite but positive definite on
+// C x = 0: the exact constrained Newton step reaches it at once; shifting H until all of it is
+// positive definite (the solver without the inertia test) converges only linearly.
+TEST(NewtonSolver, AnIndefiniteHessianDefiniteOnTheConstraintsTakesTheExactStep) {
+  Eigen::Matrix3d q;
+  const Eigen::Matrix3d h = indefinite_hessian(q);
+  const Eigen::Vector3d c(0.3, -0.2, 0.9);
+  const QuadraticTerm term(h, c);
+  // The minimiser: x − c has no part along q0, q1, and q2·x = 0.
+  const Eigen::Vector3d expected = q.col(0) * q.col(0).dot(c) + q.col(1) * q.col(1).dot(c);
+  const auto solve = [&](bool accept, Eigen::VectorXd& x) {
+    TermsProblem problem(terms_of({&term}), 3);
+    problem.m_c = q.col(2).transpose();
+    x = Eigen::VectorXd::Zero(3);
+    NewtonOptions options = yarn_like_options();
+    options.tolerance = 1e-12;
+    options.max_iterations = 500;
+    options.accept_definite_on_constraints = accept;
+    const NewtonSummary s = solve_newton(problem, x, options);
+    std::cout << "[ newton  ] " << (accept ? "with" : "without") << " the inertia test: " << s.brief() << "\n";
+    return s;
+  };
+  Eigen::VectorXd x;
+  const NewtonSummary exact = solve(true, x);
+  EXPECT_TRUE(exact.converged()) << exact.brief();
+  EXPECT_LE(exact.iterations, 2);
+  EXPECT_LT((x - expected).lpNorm<Eigen::Infinity>(), 1e-12);
+  // The shift that makes all of H definite is of the size of its negative eigenvalue, and the
+  // step then contracts the error along q0, q1 by only σ/(λ + σ) a step: the creep.
+  const NewtonSummary shifted = solve(false, x);
+  EXPECT_GT(shifted.iterations, 100) << shifted.brief();
 }
 
 }  // namespace

@@ -128,3 +128,77 @@ TEST_F(StockinetteSystem, CurvedMapTendsToTheAffineOneAndPsiIsSmoothThroughZero)
 
 }  // namespace
 }  // namespace yarnfit::yarn
+
+namespace yarnfit::yarn {
+namespace {
+
+using namespace fixtures;
+
+// Two straight weft yarns 2 mm apart (R 0.25 mm), nothing crossing them: at rest Ψ does not
+// depend on the compression across them until they touch, so ∂Ψ/∂c = 0 over a band from the
+// search's lower bound to near contact (c ≈ 0.75), and "the root" is any c of it.
+db::PeriodicTile parallel_weft_yarns() {
+  db::PeriodicTile t;
+  t.period_x = t.period_y = 4e-3;
+  t.radius = 2.5e-4;
+  constexpr int per_yarn = 8;
+  for (const double y : {1e-3, 3e-3}) {
+    const int first = t.vertex_count();
+    for (int i = 0; i < per_yarn; ++i) t.positions.push_back({i * t.period_x / per_yarn, y, 0.0});
+    for (int i = 0; i < per_yarn; ++i) t.edges.push_back({first + i, first + (i + 1) % per_yarn, i + 1 == per_yarn ? 1 : 0, 0});
+  }
+  db::fill_tile_defaults(t);
+  return t;
+}
+
+TEST(FlatCompressionBand, AtRestTheReadOutIsTheBandsSmallestCompressionWhateverTheGuess) {
+  const db::PeriodicTile tile = parallel_weft_yarns();
+  YarnSystem sys(make_yarn_tile(tile), default_params({400.0, tile.radius}));
+  CompressionOptions co;
+  co.band_stress = default_stress_tolerance(sys);
+  for (const double guess : {0.1, -0.05, 0.3}) {
+    SCOPED_TRACE(guess);
+    co.initial_guess = guess;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(sys.dof_count());
+    const Sample s = solve_free_compression(sys, {0.0, 0.0, 0.0, weft_angle()}, g, co);
+    ASSERT_TRUE(s.ok) << s.message;
+    EXPECT_TRUE(s.flat);
+    EXPECT_EQ(s.band_lower, co.lower) << "flat down to the search's bound";
+    EXPECT_GT(s.band_upper, 0.5);
+    EXPECT_LT(s.band_upper, 0.8) << "the band ends where the yarns meet";
+    EXPECT_EQ(s.chi.compression, 0.0);
+    EXPECT_LE(std::abs(s.stress_c), co.band_stress);
+  }
+  // Without the band the root search keeps whatever c it evaluates first: not defined.
+  CompressionOptions plain;
+  plain.initial_guess = 0.1;
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(sys.dof_count());
+  const Sample s = solve_free_compression(sys, {0.0, 0.0, 0.0, weft_angle()}, g, plain);
+  ASSERT_TRUE(s.ok) << s.message;
+  EXPECT_EQ(s.chi.compression, 0.1);
+  EXPECT_FALSE(s.flat);
+  EXPECT_TRUE(std::isnan(s.band_lower));
+}
+
+TEST_F(StockinetteSystem, AStretchedKnitHasANarrowBandAroundItsRoot) {
+  YarnSystem sys(make_yarn_tile(tile), params);
+  CompressionOptions co;
+  co.band_stress = 1e-2;  // N/m
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(sys.dof_count());
+  const Sample s = solve_free_compression(sys, {0.1, 0.0, 0.0, weft_angle()}, g, co);
+  ASSERT_TRUE(s.ok) << s.message;
+  EXPECT_FALSE(s.flat);
+  EXPECT_LT(s.band_lower, s.chi.compression);
+  EXPECT_GT(s.band_upper, s.chi.compression);
+  EXPECT_LT(s.band_upper - s.band_lower, 1e-3);
+  // The band's ends carry ∂Ψ/∂c = ∓ band_stress, to first order.
+  for (const double end : {s.band_lower, s.band_upper}) {
+    Eigen::VectorXd ge = g;
+    const Sample at = simulate_sample(sys, {0.1, end, 0.0, weft_angle()}, ge);
+    ASSERT_TRUE(at.ok) << at.message;
+    EXPECT_NEAR(std::abs(at.stress_c), co.band_stress, 0.1 * co.band_stress) << "c " << end;
+  }
+}
+
+}  // namespace
+}  // namespace yarnfit::yarn

@@ -76,16 +76,19 @@ TEST(SceneSample, SweepCsvLeavesAFailedPointsReadOutsEmpty) {
   Sample settled = ok;  // ended by the stress read-out test: the CSV says so
   settled.chi.stretch = 0.05;
   settled.last_solve.status = Termination::converged_readout;
+  settled.band_lower = 0.01;  // flat in c: c is the band's point of smallest |c|
+  settled.band_upper = 0.5;
+  settled.flat = true;
   Sample failed;
   failed.chi.stretch = 0.1;
   failed.last_solve.status = Termination::max_iterations;
   sweep.points = {ok, settled, failed};
   EXPECT_EQ(sweep_csv("warp", sweep),
             "direction,stretch,compression,energy_density_J_per_m2,stress_s_N_per_m,converged,newton_iterations,"
-            "seconds,solves,stress_c_N_per_m,termination\n"
-            "warp,0,0.01,1.5,2.5,1,0,0,0,0,converged\n"
-            "warp,0.05,0.01,1.5,2.5,1,0,0,0,0,converged_readout\n"
-            "warp,0.1,,,,0,0,0,0,,max_iterations\n");
+            "seconds,solves,stress_c_N_per_m,termination,compression_band_lower,compression_band_upper,flat\n"
+            "warp,0,0.01,1.5,2.5,1,0,0,0,0,converged,,,0\n"
+            "warp,0.05,0.01,1.5,2.5,1,0,0,0,0,converged_readout,0.01,0.5,1\n"
+            "warp,0.1,,,,0,0,0,0,,max_iterations,,,0\n");
 }
 
 }  // namespace
