@@ -1,8 +1,9 @@
 // Generated knit tiles relaxed by the periodic simulator (yarn_fit/generate/knit_generation.hpp,
 // homogenise/rest_period.hpp; issue 20, acceptance 2): the coarse stress left at rest is at most
 // 1 % of the tile's σ_s at 10 % stretch in weft and warp, the yarn length per stitch is kept,
-// no barrier is crossed, the written tile is the relaxed state, and the rest period does not
-// depend on where its search starts.
+// no barrier is crossed, the written tile is the relaxed state, the rest period does not
+// depend on where its search starts, and without rest curvature a generated knit reaches the
+// equilibria it reached before issue 37 changed the bending form.
 
 #include <gtest/gtest.h>
 
@@ -12,7 +13,9 @@
 #include <vector>
 
 #include "fabrics_db/tile/knit_chart.hpp"
+#include "fabrics_db/tile/periodic_tile.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
+#include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 #include "yarn_fit/solver/equilibrium.hpp"
 
@@ -91,6 +94,52 @@ TEST(RestPeriod, ASqueezedTileRelaxesBackToTheSamePeriod) {
   EXPECT_GT(r.steps, 0);
   EXPECT_NEAR(system.tile().lattice(0, 0), t.tile.period_x, 2e-3 * t.tile.period_x);
   EXPECT_NEAR(system.tile().lattice(1, 1), t.tile.period_y, 2e-3 * t.tile.period_y);
+}
+
+// Knit results unchanged by issue 37 where the physics is the same: with zero rest curvature
+// the vector bending energy is the magnitude form's c |κb|², so the generated acrylic
+// stockinette (κ̄ = 0 as generated) must reach the equilibria the magnitude form reached. The
+// pins are what commit c1861ee (magnitude form, shifted Newton) computed on this same tile,
+// printed with 17 digits. The energies differ by ~3e-8: the magnitude form smoothed |κb| by
+// δ = 1e-8 at straight corners.
+TEST(KnitGeneration, WithoutRestCurvatureTheStockinettesEquilibriaAreTheMagnitudeForms) {
+  const GeneratedTile t = generate_knit_tile(*db::parse_knit_chart("stockinette"), options_for(11.28, 0.74));
+  ASSERT_TRUE(t.converged) << t.message;
+  YarnTile tile = make_yarn_tile(t.tile);
+  for (const TileCorner& c : tile.corners) ASSERT_EQ(c.rest_curvature.norm(), 0.0);
+  const auto facts = db::compute_tile_facts(t.tile);
+  const YarnParams p = default_params({400.0, facts.r_est});
+  struct Pin {
+    double angle, s, c, sigma, psi;
+  };
+  const std::vector<Pin> pins{
+      {weft_angle(), 0.05, -0.017955615639965446, 831.25136649231138, 1343.1972979063048},
+      {weft_angle(), 0.15, 0.042098827913805627, 1174.7451937983978, 1442.5999020800384},
+      {weft_angle(), 0.30, 0.10502734482978587, 2020.9006423432581, 1678.8864766446329},
+      {warp_angle(), 0.05, 0.16808420373078009, -510.8870971879237, 1248.6265726148636},
+      {warp_angle(), 0.15, 0.18247736045841492, 7.5015476057423562, 1226.7191869307712},
+      {warp_angle(), 0.30, 0.20205296313700824, 1131.218718173405, 1296.3398436451057},
+  };
+  const double sigma_scale = 2020.9;  // the sweeps' largest |σ_s| [N/m]
+  for (const double angle : {weft_angle(), warp_angle()}) {
+    YarnSystem sys(tile, p);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(sys.dof_count());
+    for (const Pin& pin : pins) {
+      if (pin.angle != angle) continue;
+      SCOPED_TRACE("angle " + std::to_string(angle) + ", s " + std::to_string(pin.s));
+      CompressionOptions co;
+      co.tolerance = 1e-10;
+      EquilibriumOptions eo;
+      eo.force_tolerance = 1e-11 * p.ks2;
+      eo.stress_tolerance = 0.0;
+      eo.max_iterations = 1000;
+      const Sample smp = solve_free_compression(sys, {pin.s, 0.0, 0.0, angle}, g, co, eo);
+      ASSERT_TRUE(smp.ok) << smp.message;
+      EXPECT_NEAR(smp.chi.compression, pin.c, 1e-8);
+      EXPECT_NEAR(smp.stress_s, pin.sigma, 1e-7 * sigma_scale);
+      EXPECT_NEAR(smp.energy_density, pin.psi, 1e-7 * pin.psi);
+    }
+  }
 }
 
 }  // namespace
