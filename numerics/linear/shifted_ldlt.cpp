@@ -95,11 +95,13 @@ bool ShiftedLdlt::factorise(double shift) {
   return m_negative_pivots == 0;
 }
 
-bool positive_definite_on_constraints(const ShiftedLdlt& k, const Eigen::MatrixXd& c) {
+bool positive_definite_on_constraints(const ShiftedLdlt& k, const Eigen::MatrixXd& c, Eigen::MatrixXd* y) {
   const int negative = k.negative_pivots();
   if (negative < 0 || negative > c.rows()) return false;
-  const Eigen::MatrixXd y = k.solve(Eigen::MatrixXd(c.transpose()));
-  const Eigen::MatrixXd schur = c * y;
+  Eigen::MatrixXd local;
+  Eigen::MatrixXd& ky = y != nullptr ? *y : local;
+  ky = k.solve(Eigen::MatrixXd(c.transpose()));
+  const Eigen::MatrixXd schur = c * ky;
   if (!schur.allFinite()) return false;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (schur + schur.transpose()), Eigen::EigenvaluesOnly);
   if (eig.info() != Eigen::Success) return false;

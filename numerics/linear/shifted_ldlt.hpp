@@ -76,7 +76,8 @@ Eigen::MatrixXd solve_constrained(const ShiftedLdlt& k, const Eigen::MatrixXd* c
 // eigenvalues as K has (Gould 1985; Nocedal & Wright, Thm 16.3), which K's pivots count.
 // The tiles' Hessians need it: a yarn in tension may lower its energy by sliding along itself
 // with the whole tile moving against it, a direction only the constraints forbid.
-bool positive_definite_on_constraints(const ShiftedLdlt& k, const Eigen::MatrixXd& c);
+// `y`, when given, receives K⁻¹Cᵀ (the constrained step needs it too).
+bool positive_definite_on_constraints(const ShiftedLdlt& k, const Eigen::MatrixXd& c, Eigen::MatrixXd* y = nullptr);
 
 // The same for many solves with one factorisation: Y = K⁻¹Cᵀ and the Schur complement C Y are
 // computed once.

@@ -244,9 +244,11 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     while (!accepted) {
       if (options.max_failed_attempts > 0 && failed_attempts >= options.max_failed_attempts) break;
       ++summary.factorisations;
+      // K⁻¹Cᵀ, kept when the inertia test computed it for this factorisation.
+      Eigen::MatrixXd kc;
       const bool definite = factor.factorise(shift) ||
                             (exact && c != nullptr && options.accept_definite_on_constraints &&
-                             positive_definite_on_constraints(factor, *c));
+                             positive_definite_on_constraints(factor, *c, &kc));
       if (!definite) {
         last_failure = "the shifted Hessian was not positive definite";
         if (exact && shift < options.exact_shift_limit) {
@@ -265,7 +267,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
       Eigen::VectorXd step = d0;
       if (c != nullptr) {
         // The KKT step of (3.32) by the Schur complement on the constraint rows.
-        const Eigen::MatrixXd y = factor.solve(Eigen::MatrixXd(c->transpose()));
+        const Eigen::MatrixXd y = kc.size() > 0 ? kc : factor.solve(Eigen::MatrixXd(c->transpose()));
         const Eigen::MatrixXd s = *c * y;
         const Eigen::VectorXd lambda = s.ldlt().solve(*c * d0);
         step = d0 - y * lambda;
