@@ -9,10 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "calibration/fit/fit_checkpoint.hpp"
-#include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
-#include "pipeline/outputs.hpp"
-#include "pipeline/pipeline.hpp"
+#include "pipeline/plan.hpp"
 
 namespace yarnfit::batch {
 
@@ -28,27 +26,31 @@ std::string step_text(const reports::Progress& p) {
 }
 
 JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& stage) {
-  const fs::path out = fabric_output_folder(options.out, spec.fabric_id);
-  fs::create_directories(out);
-  const db::FabricLoad load = db::load_fabric(spec.folder);
-  if (!load.ok()) return {false, load.problems.to_string()};
-
-  pipeline::PipelineOptions o = options.fit;
+  pipeline::FitPlan plan;
+  plan.fabric = spec.folder;
+  plan.out = fabric_output_folder(options.out, spec.fabric_id);
+  plan.options = options.fit;
+  plan.overwrite = true;  // the ledger decides what runs again
+  fs::create_directories(plan.out);
+  pipeline::PipelineOptions& o = plan.options;
   o.shell.threads = options.threads_per_job;
   o.yarn.threads = options.threads_per_job;
-  o.yarn.checkpoint = swarm_checkpoint_file(out);
+  o.yarn.checkpoint = swarm_checkpoint_file(plan.out);
   o.tile_cache = generated_tiles_folder(options.out);
   o.yarn.resume = spec.resume && fs::exists(o.yarn.checkpoint);
   if (!o.yarn.resume) calibration::remove_fit_checkpoint(o.yarn.checkpoint);
+  pipeline::PlanObserver observer;
   if (stage) {
     stage("shell");
-    o.shell.progress = [&stage](const reports::Progress& p) { stage("shell " + step_text(p)); };
-    o.yarn.progress = [&stage](const reports::Progress& p) { stage(step_text(p)); };
+    observer = [&stage](const pipeline::StageEvent& e) {
+      const std::string step = step_text(e.progress);
+      stage(e.stage == pipeline::Stage::shell ? "shell " + step : e.stage == pipeline::Stage::yarn ? step : "report");
+    };
   }
-  const pipeline::PipelineResult result = pipeline::run_pipeline(*load.fabric, o);
-  if (result.status == pipeline::PipelineStatus::invalid_input) return {false, result.problems.to_string()};
-  pipeline::write_pipeline_outputs(result, out);
-  if (result.status != pipeline::PipelineStatus::ok) return {false, result.message};
+  const pipeline::PlanResult result = pipeline::run_plan(plan, observer);
+  if (result.fit.status == pipeline::PipelineStatus::invalid_input) return {false, result.fit.problems.to_string()};
+  if (!result.write_error.empty()) return {false, result.write_error};
+  if (result.fit.status != pipeline::PipelineStatus::ok) return {false, result.fit.message};
   return {true, ""};
 }
 

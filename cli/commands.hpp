@@ -37,9 +37,6 @@ void add_batch_commands(CLI::App& app, int& exit_code);
 void add_tile_commands(CLI::App& app, int& exit_code);
 // `report` (cli/commands_report.cpp).
 void add_report_command(CLI::App& app, int& exit_code);
-// The line a written report prints: how many fabrics and where to open it.
-void print_report_written(const reports::ReportData& data, const std::filesystem::path& index);
-
 // Runs `write` (a synth command writing a fabric record into `out`) and turns what it throws
 // into the exit code with one line on stderr: invalid settings and an existing record are the
 // user's to fix (2), anything else is internal (1).
@@ -60,8 +57,4 @@ int exit_code_of_writing(const std::string& out, Write&& write) {
 // Runs `write`, which writes files into the folder `out`; false after printing
 // `out: file: what` when it throws (an internal failure: exit 1).
 bool write_files(const std::string& out, const std::function<void()>& write);
-// What `shell fit` prints when it ends (reports::shell_fit_report) and where it wrote; `fit`
-// prints the same for its shell stage (cli/commands_shell.cpp).
-void print_shell_report(const nlohmann::json& shell_fit, const std::string& out);
-
 }  // namespace yarnfit::cli

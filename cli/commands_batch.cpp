@@ -28,8 +28,9 @@ namespace {
 namespace fs = std::filesystem;
 
 struct BatchArgs {
-  YarnFitArgs fit;
-  std::string database, out, family, stages = "all";
+  pipeline::FitRequest fit;
+  bool quiet = false, no_report = false;
+  std::string database, out, family;
   std::vector<std::string> only;
   int jobs = 1;
   int threads_per_job = 2;
@@ -46,15 +47,13 @@ int run_batch_command(const BatchArgs& a) {
   o.family = a.family;
   o.only = a.only;
   o.retry_failed = a.retry_failed;
-  o.fit = pipeline_options(a.fit, problems);
-  if (const auto stages = pipeline::stages_from_string(a.stages)) o.fit.stages = *stages;
-  else problems.add("", 0, "--stages", a.stages + ": not a stage set (shell or all)");
+  o.fit = pipeline::pipeline_options(a.fit, problems);
   problems.append(o.problems());
   if (!problems.empty()) {
     std::cerr << as_options(problems).to_string();
     return k_exit_invalid_input;
   }
-  const bool show = !a.fit.quiet && ::isatty(STDERR_FILENO);
+  const bool show = !a.quiet && ::isatty(STDERR_FILENO);
   if (show)
     o.progress = [](const batch::BatchProgress& p) { std::cerr << "\r\033[K" << batch_progress_line(p) << std::flush; };
   batch::BatchSummary s;
@@ -71,7 +70,7 @@ int run_batch_command(const BatchArgs& a) {
   }
   if (!s.coordinator) return k_exit_ok;  // an MPI worker: rank 0 reports
   if (show) std::cerr << "\n";
-  if (!a.fit.quiet) {
+  if (!a.quiet) {
     std::cout << "batch " << a.database << " -> " << a.out << ": " << s.done << " of " << s.selected << " done";
     if (s.skipped_done > 0) std::cout << " (" << s.skipped_done << " already done earlier)";
     std::cout << ", " << s.failed << " failed; " << s.ran << " fitted in this run";
@@ -91,11 +90,11 @@ int run_batch_command(const BatchArgs& a) {
     }
   }
   if (s.interrupted) std::cerr << "batch interrupted: run the same command again to continue\n";
-  if (!a.fit.no_report) {
+  if (!a.no_report) {
     // The report of the whole batch folder (every fabric of its ledger, not only this run's).
     try {
       const fs::path index = batch::write_batch_report(a.out);
-      if (!a.fit.quiet) std::cout << "report: open " << fs::absolute(index).lexically_normal().string() << "\n";
+      if (!a.quiet) std::cout << "report: open " << fs::absolute(index).lexically_normal().string() << "\n";
     } catch (const std::exception& e) {
       std::cerr << "batch: the report could not be written: " << e.what() << "\n";
       return k_exit_internal;
@@ -158,17 +157,17 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
   b->add_option("--threads-per-job", a->threads_per_job, "OpenMP threads of each fabric's fit")->capture_default_str();
   b->add_option("--family", a->family, "Only the fabrics of this family");
   b->add_option("--only", a->only, "Only these fabric ids (comma-separated)")->delimiter(',');
-  b->add_option("--stages", a->stages, "shell (the shell fit and its uniform targets) or all (the whole pipeline)")
+  b->add_option("--stages", a->fit.stages, "shell (the shell fit and its uniform targets) or all (the whole pipeline)")
       ->capture_default_str();
   add_fit_setting_options(*b, a->fit);
   b->add_option("--mesh", a->fit.mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
   add_shell_model_option(*b, a->fit.shell_model);
-  b->add_flag("--no-report", a->fit.no_report, "Do not write the HTML report DIR/report/ when the batch ends");
+  b->add_flag("--no-report", a->no_report, "Do not write the HTML report DIR/report/ when the batch ends");
   b->add_flag("--retry-failed", a->retry_failed, "Run the fabrics that failed before again (same hash)");
   b->add_flag("--mpi", a->mpi,
               std::string("Under mpirun: rank 0 keeps the ledger, the other ranks fit") +
                   (batch::mpi_available() ? "" : " (this build has no MPI)"));
-  b->add_flag("-q,--quiet", a->fit.quiet, "No progress line or summary (failures still go to stderr)");
+  b->add_flag("-q,--quiet", a->quiet, "No progress line or summary (failures still go to stderr)");
 
   auto status = std::make_shared<std::pair<std::string, bool>>();
   auto* st = b->add_subcommand("status", "Print the ledger DIR/batch.db: every job, its state, attempts, headline "

@@ -40,20 +40,11 @@ int run_report(const ReportArgs& a) {
   for (const auto& p : data.problems) std::cerr << "report: " << p << "\n";
   fs::path index;
   if (!write_files(a.out, [&] { index = reports::write_report(data, a.out); })) return k_exit_internal;
-  if (!a.quiet) print_report_written(data, index);
+  if (!a.quiet) std::cout << reports::report_written_line(data, index);
   return k_exit_ok;
 }
 
 }  // namespace
-
-void print_report_written(const reports::ReportData& data, const fs::path& index) {
-  int failed = 0;
-  for (const auto& r : data.fabrics) failed += r.status != "done";
-  std::cout << "report of " << data.fabrics.size() << " fabric" << (data.fabrics.size() == 1 ? "" : "s") << " ("
-            << data.families.size() << " famil" << (data.families.size() == 1 ? "y" : "ies") << ", " << failed
-            << " not fitted) from " << data.run_summaries.size() << " run" << (data.run_summaries.size() == 1 ? "" : "s")
-            << ": open " << fs::absolute(index).lexically_normal().string() << "\n";
-}
 
 void add_report_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<ReportArgs>();

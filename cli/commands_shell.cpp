@@ -6,65 +6,13 @@
 #include "cli/commands.hpp"
 #include "cli/fit_args.hpp"
 #include "cli/option_names.hpp"
-#include "cli/progress_display.hpp"
 #include "cli/shell_scene_args.hpp"
-#include "fabrics_db/records/fabric_reader.hpp"
-#include "pipeline/outputs.hpp"
-#include "reports/summaries/shell_summary.hpp"
-#include "shell_fit/fit/shell_fit.hpp"
 #include "shell_fit/fit/synthetic_fabric.hpp"
 
 namespace yarnfit::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct ShellArgs {
-  std::string fabric, out;
-  double mesh_mm = 5.0;
-  int refine = 0;
-  int threads = 2;
-  int max_iterations = shell::ShellFitOptions{}.max_iterations;
-  bool quiet = false;
-  bool full_range = false;
-  std::string model = shell::to_string(shell::ShellFitOptions{}.model);
-};
-
-// The library's options for these arguments (validated by the library: every problem named).
-shell::ShellFitOptions shell_options(const ShellArgs& a, db::Problems& problems) {
-  shell::ShellFitOptions o;
-  o.model = shell_model_from(a.model, problems);
-  o.mesh = a.mesh_mm * 1e-3;
-  o.refinements = a.refine;
-  o.threads = a.threads;
-  o.max_iterations = a.max_iterations;
-  o.full_range = a.full_range;
-  return o;
-}
-
-int run_shell_fit(const ShellArgs& a) {
-  const auto load = db::load_fabric(a.fabric);
-  db::Problems problems = load.problems;
-  shell::ShellFitOptions options = shell_options(a, problems);
-  problems.append(as_options(options.problems()));
-  if (!problems.empty()) {
-    std::cerr << problems.to_string();
-    return k_exit_invalid_input;
-  }
-  ProgressDisplay progress = ProgressDisplay::for_stderr(a.quiet);
-  options.progress = progress.callback("shell fit");
-  const shell::ShellFitResult fit = shell::fit_shell(*load.fabric, options);
-  progress.finish();
-  nlohmann::json report;
-  if (!write_files(a.out, [&] { report = pipeline::write_shell_outputs(fit, a.out); })) return k_exit_internal;
-  if (!a.quiet) print_shell_report(report, a.out);
-  if (!fit.converged()) {
-    std::cerr << fit.failure() << "\n";
-    // A stop at the iteration cap is a model with the errors reached (shell_fit.json says so).
-    if (!fit.usable()) return k_exit_internal;
-  }
-  return k_exit_ok;
-}
 
 struct SynthArgs {
   std::string out, id = "synthetic_shell", family = "synthetic";
@@ -152,32 +100,33 @@ bool write_files(const std::string& out, const std::function<void()>& write) {
   }
 }
 
-void print_shell_report(const nlohmann::json& shell_fit, const std::string& out) {
-  std::cout << reports::shell_fit_report(shell_fit) << "  wrote " << (fs::path(out) / "shell_fit.json").string()
-            << " and uniform_targets.csv\n";
-}
-
 void add_shell_commands(CLI::App& app, int& exit_code) {
   auto* shell = app.add_subcommand("shell", "Thin-shell model: fit to a fabric's tests, simulate scenes");
   shell->require_subcommand(1);
-  auto args = std::make_shared<ShellArgs>();
+  auto args = std::make_shared<FitArgs>();
+  // The shell stage's files are replaced when they exist (`fit` and `yarn fit` refuse that
+  // without --force).
+  args->request.stages = "shell";
+  args->request.threads = 2;
+  args->request.overwrite = true;
   auto* fit = shell->add_subcommand(
       "fit", "Fit the in-plane shell parameters to the stretch tests by simulation in the loop; "
-             "writes DIR/shell_fit.json and DIR/uniform_targets.csv");
-  fit->add_option("FABRIC", args->fabric, "Fabric folder")->required();
-  fit->add_option("-o,--out", args->out, "Output folder")->required();
+             "writes DIR/shell_fit.json, DIR/uniform_targets.csv and DIR/shell_curves.csv");
+  pipeline::FitRequest& r = args->request;
+  fit->add_option("FABRIC", r.fabric, "Fabric folder")->required();
+  fit->add_option("-o,--out", r.out, "Output folder")->required();
   // Ranges are checked by the library (ShellFitOptions::problems), which names every problem.
-  fit->add_option("--mesh", args->mesh_mm, "Mesh cell size [mm]")->capture_default_str();
-  add_shell_model_option(*fit, args->model);
-  fit->add_option("--refine", args->refine, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
-  fit->add_option("--threads", args->threads, "Test directions simulated in parallel (1-64)")->capture_default_str();
-  fit->add_option("--max-iterations", args->max_iterations,
+  fit->add_option("--mesh", r.mesh_mm, "Mesh cell size [mm]")->capture_default_str();
+  add_shell_model_option(*fit, r.shell_model);
+  fit->add_option("--refine", r.refinements, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
+  fit->add_option("--threads", r.threads, "Test directions simulated in parallel (1-64)")->capture_default_str();
+  fit->add_option("--max-iterations", r.max_iterations,
                   "Ceres iterations of the in-plane fit after its multi-start (1-1000)")
       ->capture_default_str();
-  fit->add_flag("--full-range", args->full_range,
+  fit->add_flag("--full-range", r.full_range,
                 "Fit every measured point, not only up to the power range (83.3 N/m line force)");
   fit->add_flag("-q,--quiet", args->quiet, "No progress or summary");
-  fit->callback([args, &exit_code] { exit_code = run_shell_fit(*args); });
+  fit->callback([args, &exit_code] { exit_code = run_fit_command(*args); });
   add_shell_sim_command(*shell, exit_code);
 }
 

@@ -1,48 +1,13 @@
 #include "cli/fit_args.hpp"
 
+#include <iostream>
+
 #include "calibration/fit/budget.hpp"
+#include "cli/commands.hpp"
+#include "cli/option_names.hpp"
+#include "cli/progress_display.hpp"
 
 namespace yarnfit::cli {
-
-calibration::YarnFitSettings settings_from(const YarnFitArgs& a, db::Problems& problems) {
-  calibration::YarnFitSettings s;
-  if (const auto global = calibration::global_method_from_string(a.global_method)) s.global_method = *global;
-  else problems.add("", 0, "--global", a.global_method + ": not a global method (staged or swarm)");
-  if (const auto budget = calibration::budget_from_string(a.budget)) calibration::apply_budget(*budget, s);
-  else problems.add("", 0, "--budget", a.budget + ": not a budget (quick, default or thorough)");
-  if (a.particles) s.particles = *a.particles;
-  if (a.iterations) s.iterations = *a.iterations;
-  if (a.samples) s.swarm_samples = *a.samples;
-  if (a.local_samples) s.local_samples = *a.local_samples;
-  if (a.local_evaluations) s.local_evaluations = *a.local_evaluations;
-  if (a.starts) s.staged.starts = *a.starts;
-  if (const auto method = calibration::local_method_from_string(a.local_method)) s.local_method = *method;
-  else
-    problems.add("", 0, "--local",
-                 a.local_method + ": not a local method (gauss-newton, implicit-filtering or cobyla)");
-  s.seed = a.seed;
-  s.threads = a.threads;
-  s.swarm = !a.no_swarm && a.start.empty();
-  s.linear_stretch = a.linear_stretch;
-  s.rest_shape = !a.no_rest_shape;
-  s.objective.rest_period = a.relax_period;
-  if (a.no_profile) s.profile_step = 0.0;
-  s.swarm_compression_nodes = a.compression_nodes;
-  s.local_compression_nodes = a.compression_nodes;
-  s.checkpoint = a.checkpoint;
-  s.resume = a.resume;
-  return s;
-}
-
-pipeline::PipelineOptions pipeline_options(const YarnFitArgs& a, db::Problems& problems) {
-  pipeline::PipelineOptions o;
-  o.shell.mesh = a.mesh_mm * 1e-3;
-  o.shell.threads = a.threads > 0 ? a.threads : 2;
-  o.shell.model = shell_model_from(a.shell_model, problems);
-  o.yarn = settings_from(a, problems);
-  o.start = a.start;
-  return o;
-}
 
 void add_shell_model_option(CLI::App& cmd, std::string& model) {
   cmd.add_option("--shell-model", model,
@@ -51,15 +16,10 @@ void add_shell_model_option(CLI::App& cmd, std::string& model) {
       ->capture_default_str();
 }
 
-shell::InplaneModel shell_model_from(const std::string& name, db::Problems& problems) {
-  if (const auto m = shell::parse_inplane_model(name)) return *m;
-  problems.add("", 0, "--shell-model", name + ": not a shell model (stiffening or thesis)");
-  return shell::ShellFitOptions{}.model;
-}
-
-void add_fit_setting_options(CLI::App& cmd, YarnFitArgs& a) {
-  // Values are checked by the libraries (YarnFitSettings::problems and the options of the
-  // shell stage), so that one run names every invalid option, not only the first.
+void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& a) {
+  // Values are checked by the library (pipeline::pipeline_options, YarnFitSettings::problems and
+  // the options of the shell stage), so that one run names every invalid option, not only the
+  // first.
   cmd.add_option("--budget", a.budget,
                  "Named search settings: quick, default or thorough (the options below override them; "
                  "bench_calibration and the report's 'What accuracy costs' show what each costs and reaches)")
@@ -109,6 +69,26 @@ void add_fit_setting_options(CLI::App& cmd, YarnFitArgs& a) {
   cmd.add_flag("--no-profile", a.no_profile,
                "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "
                "evaluations per parameter)");
+}
+
+int run_fit_command(FitArgs a) {
+  a.request.report = !a.no_report && a.request.stages == "all";
+  ProgressDisplay progress = ProgressDisplay::for_stderr(a.quiet);
+  const auto result = pipeline::run_request(a.request, [&progress](const pipeline::StageEvent& e) {
+    if (e.stage == pipeline::Stage::shell) progress.update("shell fit", e.progress);
+    if (e.stage == pipeline::Stage::yarn) progress.update("yarn fit " + e.fabric_id, e.progress);
+  });
+  progress.finish();
+  if (result.fit.status == pipeline::PipelineStatus::invalid_input) {
+    std::cerr << as_options(result.fit.problems).to_string();
+    return k_exit_invalid_input;
+  }
+  if (!a.quiet) std::cout << result.outputs.text;
+  if (!result.write_error.empty()) std::cerr << result.write_error << "\n";
+  if (!result.fit.message.empty()) std::cerr << result.fit.message << "\n";
+  if (result.fit.status == pipeline::PipelineStatus::shell_failed && pipeline::runs_yarn(result.fit.stages))
+    std::cerr << "fit: the shell stage failed; no yarn fit\n";
+  return result.ok() ? k_exit_ok : k_exit_internal;
 }
 
 }  // namespace yarnfit::cli

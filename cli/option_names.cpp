@@ -25,6 +25,12 @@ std::string option_name(const std::string& field) {
       {"only", "--only"},
       {"out", "--out"},
       {"database", "DB"},
+      {"stages", "--stages"},
+      {"shell_model", "--shell-model"},
+      {"budget", "--budget"},
+      {"global_method", "--global"},
+      {"local_method", "--local"},
+      {"targets", "--targets"},
   };
   std::string bare = field;
   if (bare.rfind("fit.", 0) == 0) bare = bare.substr(4);  // batch::BatchOptions::fit

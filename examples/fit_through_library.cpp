@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   }
   std::cout << "time: shell " << result.seconds_shell << " s, yarn " << result.seconds_yarn << " s\n";
   if (argc > 2) {
-    const auto written = pipeline::write_pipeline_outputs(result, argv[2]);
+    const auto written = pipeline::write_outputs(result, argv[2]);
     std::cout << "wrote " << written.files.size() << " files to " << argv[2] << "\n";
   }
   if (result.status != pipeline::PipelineStatus::ok) {

@@ -10,14 +10,22 @@ namespace yarnfit::pipeline {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string>& pipeline_output_files() {
-  static const std::vector<std::string> files{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv",
-                                              "yarn_fit.json",  "yarn_curves.csv",     "summary.txt"};
-  return files;
+const std::vector<std::string>& output_files(Stages stages) {
+  static const std::vector<std::string> shell{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv"};
+  static const std::vector<std::string> yarn{"yarn_fit.json", "yarn_curves.csv", "yarn_summary.txt"};
+  static const std::vector<std::string> all{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv",
+                                            "yarn_fit.json",  "yarn_curves.csv",     "summary.txt"};
+  switch (stages) {
+    case Stages::shell: return shell;
+    case Stages::yarn: return yarn;
+    case Stages::all: break;
+  }
+  return all;
 }
 
-const std::vector<std::string>& yarn_output_files() {
-  static const std::vector<std::string> files{"yarn_fit.json", "yarn_curves.csv", "yarn_summary.txt"};
+const std::vector<std::string>& report_files() {
+  static const std::vector<std::string> files{"report/index.html", "report/fabrics.csv", "report/families.csv",
+                                              "report/report.json"};
   return files;
 }
 
@@ -37,32 +45,60 @@ db::Problems output_problems(const fs::path& folder, const std::vector<std::stri
   return out;
 }
 
-nlohmann::json write_shell_outputs(const shell::ShellFitResult& result, const fs::path& folder) {
-  fs::create_directories(folder);
-  nlohmann::json shell = shell::to_json(result);
-  db::write_text_file_atomically(folder / "shell_fit.json", shell.dump(2) + "\n");
-  db::write_uniform_targets_csv(result.targets, folder / "uniform_targets.csv");
-  return shell;
-}
+namespace {
 
-PipelineOutputs write_pipeline_outputs(const PipelineResult& result, const fs::path& folder) {
-  PipelineOutputs out;
-  if (!result.shell) return out;
-  const auto write = [&](const std::string& name, const std::string& text) {
+// Writes each file whole (db::write_text_file_atomically) and keeps the list.
+struct FolderWriter {
+  const fs::path& folder;
+  PipelineOutputs& out;
+  void operator()(const std::string& name, const std::string& text) const {
     db::write_text_file_atomically(folder / name, text);
     out.files.push_back(name);
-  };
-  const nlohmann::json shell = write_shell_outputs(*result.shell, folder);
-  out.files = {"shell_fit.json", "uniform_targets.csv"};
-  if (result.status == PipelineStatus::shell_failed) return out;
-  write("shell_curves.csv", reports::shell_curves_csv(shell));
+  }
+};
+
+std::string listed(const std::vector<std::string>& files) {
+  std::string s;
+  for (const auto& f : files) s += (s.empty() ? "" : ", ") + f;
+  return s;
+}
+
+// shell_fit.json, uniform_targets.csv and, for a usable model, shell_curves.csv; returns the
+// JSON.
+nlohmann::json write_shell_stage(const shell::ShellFitResult& shell, const FolderWriter& write) {
+  nlohmann::json j = shell::to_json(shell);
+  write("shell_fit.json", j.dump(2) + "\n");
+  db::write_uniform_targets_csv(shell.targets, write.folder / "uniform_targets.csv");
+  write.out.files.push_back("uniform_targets.csv");
+  write.out.text = reports::shell_fit_report(j) + "  wrote " + (write.folder / "shell_fit.json").string() +
+                   " and uniform_targets.csv\n";
+  if (shell.usable()) write("shell_curves.csv", reports::shell_curves_csv(j));
+  return j;
+}
+
+}  // namespace
+
+PipelineOutputs write_outputs(const PipelineResult& result, const fs::path& folder) {
+  PipelineOutputs out;
+  if (!result.shell && !result.yarn) return out;
+  fs::create_directories(folder);
+  const FolderWriter write{folder, out};
+  const nlohmann::json shell = result.shell ? write_shell_stage(*result.shell, write) : nlohmann::json();
   if (!result.yarn) return out;
   const nlohmann::json yarn = yarn_fit_json(result, folder / "uniform_targets.csv");
-  write("yarn_fit.json", yarn.dump(2) + "\n");
-  write("yarn_curves.csv", reports::yarn_curves_csv(yarn));
-  out.summary = reports::fit_summary(result.fabric_id, result.fabric_folder.string(), shell, yarn,
-                                     {result.seconds_shell, result.seconds_yarn, result.seconds_total});
-  write("summary.txt", out.summary);
+  if (result.shell) {
+    write("yarn_fit.json", yarn.dump(2) + "\n");
+    write("yarn_curves.csv", reports::yarn_curves_csv(yarn));
+    out.summary = reports::fit_summary(result.fabric_id, result.fabric_folder.string(), shell, yarn,
+                                       {result.seconds_shell, result.seconds_yarn, result.seconds_total});
+    write("summary.txt", out.summary);
+    out.text += "\n" + out.summary;
+  } else {
+    out.summary = write_yarn_outputs(yarn, folder);
+    out.files = output_files(Stages::yarn);
+    out.text = "yarn fit of " + result.fabric_id + "\n" + out.summary;
+  }
+  out.text += "results in " + folder.string() + ": " + listed(out.files) + "\n";
   return out;
 }
 

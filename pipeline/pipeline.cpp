@@ -5,6 +5,7 @@
 
 #include "calibration/problem/generated_pattern.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
 
 namespace yarnfit::pipeline {
 
@@ -39,67 +40,101 @@ void check_generated_pattern(const db::Fabric& fabric, const PipelineOptions& op
   calibration::check_yarn_stiffness(fabric, problems);
 }
 
+// What must hold before any work; the yarn problem (no targets yet) when the yarn stage runs on
+// a record whose tile exists.
+void check(const db::Fabric& fabric, const PipelineOptions& options, db::Problems& problems,
+           std::optional<calibration::YarnFitProblem>* problem) {
+  if (!runs_yarn(options.stages)) return;
+  if (tile_to_generate(fabric)) check_generated_pattern(fabric, options, problems);
+  else if (auto p = yarn_problem(fabric, options, problems); problem) *problem = std::move(p);
+  if (options.stages == Stages::yarn) {
+    if (options.targets.empty()) problems.add("", 0, "targets", "the yarn stage alone needs a targets file");
+    else (void)db::read_uniform_targets(options.targets, problems);
+  }
+}
+
+// Stage 1: the shell fit and its uniform targets. False when the pipeline ends here.
+bool run_shell_stage(const db::Fabric& fabric, const PipelineOptions& options, PipelineResult& result,
+                     Clock::time_point start) {
+  result.shell = shell::fit_shell(fabric, options.shell);
+  result.seconds_shell = seconds_since(start);
+  if (!result.shell->converged()) result.message = result.shell->failure();
+  if (!result.shell->usable()) {
+    result.status = PipelineStatus::shell_failed;
+    return false;
+  }
+  result.status = PipelineStatus::ok;
+  return runs_yarn(options.stages);
+}
+
+// Stage 2: the yarn fit on the shell stage's targets, handed over in memory (as the file holds
+// them), or on the targets file.
+void run_yarn_stage(const PipelineOptions& options, PipelineResult& result) {
+  const auto yarn_start = Clock::now();
+  auto& problem = *result.yarn_problem;
+  if (result.shell) {
+    problem.targets = result.shell->targets;
+  } else {
+    problem.targets = db::read_uniform_targets(options.targets);
+    problem.targets_source = options.targets.string();
+  }
+  try {
+    result.yarn = calibration::fit_yarn(problem, options.yarn);
+    result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
+    result.message = result.yarn->ok ? std::string() : "yarn fit failed: " + result.yarn->message;
+  } catch (const std::invalid_argument& e) {
+    // The settings were checked: the targets cannot be fitted.
+    const std::string source = result.shell ? "the shell stage's uniform targets" : options.targets.string();
+    result.status = result.shell ? PipelineStatus::yarn_failed : PipelineStatus::invalid_input;
+    result.message = source + ": " + e.what();
+    if (!result.shell) result.problems.add(options.targets.string(), 0, "targets", e.what());
+  }
+  result.seconds_yarn = seconds_since(yarn_start);
+}
+
 PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Clock::time_point start) {
   PipelineResult result;
   result.fabric_id = given.id;
   result.fabric_folder = given.folder;
   result.yarn_settings = options.yarn;
+  result.stages = options.stages;
   result.problems = options.problems();
   db::Fabric fabric = given;
-  if (options.stages == Stages::all && tile_to_generate(fabric)) {
-    check_generated_pattern(fabric, options, result.problems);
-    if (result.problems.empty()) calibration::make_generated_pattern(fabric, options.tile_cache, result.problems);
+  check(fabric, options, result.problems, &result.yarn_problem);
+  if (result.problems.empty() && runs_yarn(options.stages) && tile_to_generate(fabric)) {
+    // The stage "tile": a knit's tile is generated now that nothing else stands in the way.
+    calibration::make_generated_pattern(fabric, options.tile_cache, result.problems);
+    if (result.problems.empty()) result.yarn_problem = yarn_problem(fabric, options, result.problems);
   }
-  if (options.stages == Stages::all && !tile_to_generate(fabric))
-    result.yarn_problem = yarn_problem(fabric, options, result.problems);
   if (!result.problems.empty()) {
     result.status = PipelineStatus::invalid_input;
     result.message = "invalid input: nothing was run";
     result.yarn_problem.reset();
     return result;
   }
-
-  // Stage 1: the shell fit and its uniform targets.
-  result.shell = shell::fit_shell(fabric, options.shell);
-  result.seconds_shell = seconds_since(start);
-  if (!result.shell->usable()) {
-    result.status = PipelineStatus::shell_failed;
-    result.message = result.shell->failure();
-    result.seconds_total = seconds_since(start);
-    return result;
-  }
-  if (options.stages == Stages::shell) {
-    result.status = PipelineStatus::ok;
-    result.seconds_total = seconds_since(start);
-    return result;
-  }
-
-  // Stage 2: the yarn fit on those targets, handed over in memory (as the file holds them).
-  const auto yarn_start = Clock::now();
-  result.yarn_problem->targets = result.shell->targets;
-  try {
-    result.yarn = calibration::fit_yarn(*result.yarn_problem, options.yarn);
-  } catch (const std::invalid_argument& e) {
-    // The settings were checked above: the shell stage's targets cannot be fitted.
-    result.status = PipelineStatus::yarn_failed;
-    result.message = std::string("the shell stage's uniform targets: ") + e.what();
-    result.seconds_yarn = seconds_since(yarn_start);
-    result.seconds_total = seconds_since(start);
-    return result;
-  }
-  result.seconds_yarn = seconds_since(yarn_start);
+  const bool yarn_next = !runs_shell(options.stages) || run_shell_stage(fabric, options, result, start);
+  if (yarn_next) run_yarn_stage(options, result);
   result.seconds_total = seconds_since(start);
-  result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
-  if (!result.yarn->ok) result.message = "yarn fit failed: " + result.yarn->message;
   return result;
 }
 
 }  // namespace
 
-const char* to_string(Stages stages) { return stages == Stages::shell ? "shell" : "all"; }
+const char* to_string(Stages stages) {
+  switch (stages) {
+    case Stages::shell: return "shell";
+    case Stages::yarn: return "yarn";
+    case Stages::all: break;
+  }
+  return "all";
+}
+
+bool runs_shell(Stages stages) { return stages != Stages::yarn; }
+bool runs_yarn(Stages stages) { return stages != Stages::shell; }
 
 std::optional<Stages> stages_from_string(std::string_view name) {
   if (name == "shell") return Stages::shell;
+  if (name == "yarn") return Stages::yarn;
   if (name == "all") return Stages::all;
   return std::nullopt;
 }
@@ -107,7 +142,7 @@ std::optional<Stages> stages_from_string(std::string_view name) {
 db::Problems PipelineOptions::problems() const {
   db::Problems out;
   add_prefixed(out, shell.problems(), "shell.");
-  if (stages == Stages::shell) return out;
+  if (!runs_yarn(stages)) return out;
   calibration::YarnFitSettings checked = yarn;
   if (!start.empty()) checked.swarm = false;  // a start skips the swarm: its settings do not matter
   add_prefixed(out, checked.problems(), "yarn.");
@@ -116,9 +151,7 @@ db::Problems PipelineOptions::problems() const {
 
 db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options) {
   db::Problems problems = options.problems();
-  if (options.stages != Stages::all) return problems;
-  if (tile_to_generate(fabric)) check_generated_pattern(fabric, options, problems);
-  else (void)yarn_problem(fabric, options, problems);
+  check(fabric, options, problems, nullptr);
   return problems;
 }
 
@@ -150,7 +183,7 @@ nlohmann::json shell_fit_json(const PipelineResult& result) {
 nlohmann::json yarn_fit_json(const PipelineResult& result, const std::filesystem::path& targets_file) {
   if (!result.yarn || !result.yarn_problem) throw std::logic_error("yarn_fit_json: the yarn stage did not run");
   nlohmann::json j = calibration::to_json(*result.yarn_problem, *result.yarn, result.yarn_settings);
-  j["targets"] = targets_file.string();
+  if (result.shell) j["targets"] = targets_file.string();
   return j;
 }
 

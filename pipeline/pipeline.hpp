@@ -27,9 +27,12 @@
 
 namespace yarnfit::pipeline {
 
-// Which stages run: the shell fit and its uniform targets only, or the whole pipeline.
-enum class Stages { shell, all };
-[[nodiscard]] const char* to_string(Stages stages);  // "shell", "all"
+// Which stages run: the shell fit and its uniform targets only, the yarn fit alone on targets
+// read from a file, or the whole pipeline.
+enum class Stages { shell, yarn, all };
+[[nodiscard]] const char* to_string(Stages stages);  // "shell", "yarn", "all"
+[[nodiscard]] bool runs_shell(Stages stages);
+[[nodiscard]] bool runs_yarn(Stages stages);
 [[nodiscard]] std::optional<Stages> stages_from_string(std::string_view name);
 
 struct PipelineOptions {
@@ -39,6 +42,9 @@ struct PipelineOptions {
   // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
   // whatever yarn.swarm says (calibration::settings_for).
   std::filesystem::path start;
+  // Stages::yarn: the uniform targets the yarn stage fits (uniform_targets.csv as the shell
+  // stage writes it).
+  std::filesystem::path targets;
   // Where tiles generated for records whose pattern names a knit are kept and looked up
   // (calibration/problem/generated_pattern.hpp); required for such records.
   std::filesystem::path tile_cache;
@@ -66,19 +72,21 @@ struct PipelineResult {
   std::optional<calibration::YarnFitProblem> yarn_problem;  // its targets are the shell stage's
   std::optional<calibration::YarnFitResult> yarn;
   calibration::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
+  Stages stages = Stages::all;
   double seconds_shell = 0.0;  // from the start (the record read) to the shell stage's end
   double seconds_yarn = 0.0;
   double seconds_total = 0.0;
 };
 
 // Everything run_pipeline would refuse for this fabric: the options' problems, the record's
-// (no pattern, no yarn stiffness, an unusable tile: only when the yarn stage runs) and the
-// start file's. Fast: no simulation.
+// (no pattern, no yarn stiffness, an unusable tile: only when the yarn stage runs), the start
+// file's and the targets file's. Fast: no simulation.
 [[nodiscard]] db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options);
 
 // Runs the stages on `fabric` (with Stages::shell the result is ok once the shell fit
 // converged or stopped at its iteration cap with a usable model (ShellFitResult::usable, said
-// in shell_fit.json), and has no yarn problem or result). Never throws for bad input or a failed fit:
+// in shell_fit.json; `message` then says why it did not converge), and has no yarn problem or
+// result; with Stages::yarn there is no shell result). Never throws for bad input or a failed fit:
 // the status says.
 PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options);
 // The same on the record in `fabric_folder` (read and validated first; its problems are the
@@ -88,6 +96,7 @@ PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const Pi
 // The stages' JSON (SPEC §5). yarn_fit.json names its targets `targets_file`: the file
 // the shell stage's targets are written to.
 nlohmann::json shell_fit_json(const PipelineResult& result);
+// With Stages::yarn the targets are the file the options name, whatever `targets_file` says.
 nlohmann::json yarn_fit_json(const PipelineResult& result, const std::filesystem::path& targets_file);
 
 }  // namespace yarnfit::pipeline

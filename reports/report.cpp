@@ -32,4 +32,16 @@ std::filesystem::path write_report(const ReportData& data, const std::filesystem
   return index;
 }
 
+std::string report_written_line(const ReportData& data, const std::filesystem::path& index) {
+  int failed = 0;
+  for (const auto& r : data.fabrics) failed += r.status != "done";
+  const auto plural = [](std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  return "report of " + plural(data.fabrics.size(), "fabric", "fabrics") + " (" +
+         plural(data.families.size(), "family", "families") + ", " + std::to_string(failed) + " not fitted) from " +
+         plural(data.run_summaries.size(), "run", "runs") +
+         ": open " + std::filesystem::absolute(index).lexically_normal().string() + "\n";
+}
+
 }  // namespace yarnfit::reports

@@ -19,4 +19,8 @@ namespace yarnfit::reports {
 std::filesystem::path write_report(const ReportData& data, const std::filesystem::path& out,
                                    const std::string& generated = "");
 
+// The line that says a report was written: how many fabrics, families, failures and runs, and
+// the absolute path of `index` to open.
+[[nodiscard]] std::string report_written_line(const ReportData& data, const std::filesystem::path& index);
+
 }  // namespace yarnfit::reports

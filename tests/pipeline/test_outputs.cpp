@@ -15,15 +15,15 @@ using yarnfit::testing::write_file;
 
 TEST(Outputs, ExistingFilesAreRefusedUnlessOverwriting) {
   ScratchDir dir("outputs");
-  EXPECT_TRUE(output_problems(dir / "new", pipeline_output_files(), false).empty());
+  EXPECT_TRUE(output_problems(dir / "new", output_files(Stages::all), false).empty());
   write_file(dir / "out" / "yarn_fit.json", "mine\n");
   write_file(dir / "out" / "summary.txt", "mine\n");
-  const auto problems = output_problems(dir / "out", pipeline_output_files(), false);
+  const auto problems = output_problems(dir / "out", output_files(Stages::all), false);
   EXPECT_EQ(problems.to_string(), (dir / "out" / "yarn_fit.json").string() + ": exists (use --force to replace it)\n" +
                                       (dir / "out" / "summary.txt").string() + ": exists (use --force to replace it)\n");
-  EXPECT_TRUE(output_problems(dir / "out", pipeline_output_files(), true).empty());
+  EXPECT_TRUE(output_problems(dir / "out", output_files(Stages::all), true).empty());
   write_file(dir / "file", "x");
-  EXPECT_EQ(output_problems(dir / "file", yarn_output_files(), true).to_string(),
+  EXPECT_EQ(output_problems(dir / "file", output_files(Stages::yarn), true).to_string(),
             (dir / "file").string() + ": exists and is not a folder\n");
 }
 
@@ -33,7 +33,7 @@ TEST(Outputs, AShellStageThatFailedWritesItsTwoFilesOnly) {
   r.status = PipelineStatus::shell_failed;
   r.shell = shell::ShellFitResult{};
   r.shell->fabric_id = "x";
-  const PipelineOutputs written = write_pipeline_outputs(r, dir / "out");
+  const PipelineOutputs written = write_outputs(r, dir / "out");
   EXPECT_EQ(written.files, (std::vector<std::string>{"shell_fit.json", "uniform_targets.csv"}));
   EXPECT_TRUE(written.summary.empty());
   const auto j = nlohmann::json::parse(read_file(dir / "out" / "shell_fit.json"));

@@ -68,7 +68,7 @@ TEST(Pipeline, NothingRunsWhenAnythingIsWrongAndEveryProblemIsListed) {
   EXPECT_NE(missing.problems.to_string().find("no_such_fabric/fabric.yaml: file:"), std::string::npos)
       << missing.problems.to_string();
   yarnfit::testing::ScratchDir dir("pipeline_invalid");
-  EXPECT_TRUE(write_pipeline_outputs(missing, dir / "out").files.empty());
+  EXPECT_TRUE(write_outputs(missing, dir / "out").files.empty());
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
@@ -82,9 +82,9 @@ TEST(Pipeline, TheYarnStageFitsTheShellTargetsInMemoryAsFromTheirFile) {
   EXPECT_GE(r.seconds_total, r.seconds_shell + r.seconds_yarn - 1e-6);
 
   yarnfit::testing::ScratchDir dir("pipeline");
-  const PipelineOutputs written = write_pipeline_outputs(r, dir / "out");
-  EXPECT_EQ(written.files, pipeline_output_files());
-  for (const auto& f : pipeline_output_files()) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+  const PipelineOutputs written = write_outputs(r, dir / "out");
+  EXPECT_EQ(written.files, output_files(Stages::all));
+  for (const auto& f : output_files(Stages::all)) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
   EXPECT_EQ(yarnfit::testing::read_file(dir / "out" / "summary.txt"), written.summary);
   const auto yarn_json = nlohmann::json::parse(yarnfit::testing::read_file(dir / "out" / "yarn_fit.json"));
   EXPECT_EQ(yarn_json["targets"], (dir / "out" / "uniform_targets.csv").string());

@@ -1,0 +1,85 @@
+#include "pipeline/plan.hpp"
+
+#include <exception>
+#include <optional>
+
+#include "fabrics_db/records/fabric_reader.hpp"
+#include "reports/report.hpp"
+
+namespace yarnfit::pipeline {
+
+namespace {
+
+// The plan's options as the stages run them: the tile cache defaults to the output folder and
+// the observer hears both fits.
+PipelineOptions stage_options(const FitPlan& plan, const std::string& fabric_id, const PlanObserver& observer) {
+  PipelineOptions o = plan.options;
+  if (o.tile_cache.empty()) o.tile_cache = plan.out;
+  if (observer) {
+    o.shell.progress = [observer, fabric_id](const reports::Progress& p) { observer({Stage::shell, fabric_id, p}); };
+    o.yarn.progress = [observer, fabric_id](const reports::Progress& p) { observer({Stage::yarn, fabric_id, p}); };
+  }
+  return o;
+}
+
+// Everything that refuses the plan of the record `load`, with its stages' `options`.
+db::Problems refusals(const FitPlan& plan, const db::FabricLoad& load, const PipelineOptions& options) {
+  db::Problems problems = load.problems;
+  problems.append(load.ok() ? pipeline_problems(*load.fabric, options) : options.problems());
+  problems.append(output_problems(plan.out, output_files(plan.options.stages), plan.overwrite));
+  if (plan.report) problems.append(output_problems(plan.out, report_files(), plan.overwrite));
+  return problems;
+}
+
+// The report stage: out/report/ from the files just written.
+void write_fit_report(const FitPlan& plan, PlanResult& result) {
+  std::vector<reports::RunOutputs> runs{reports::read_fit_folders(plan.out)};
+  const reports::ReportData data = reports::make_report_data(std::move(runs));
+  result.report_index = reports::write_report(data, plan.out / "report");
+  result.outputs.text += reports::report_written_line(data, result.report_index);
+}
+
+}  // namespace
+
+const char* to_string(Stage stage) {
+  switch (stage) {
+    case Stage::tile: return "tile";
+    case Stage::shell: return "shell";
+    case Stage::targets: return "targets";
+    case Stage::yarn: return "yarn";
+    case Stage::report: return "report";
+  }
+  return "?";
+}
+
+db::Problems check_plan(const FitPlan& plan) {
+  const db::FabricLoad load = db::load_fabric(plan.fabric);
+  return refusals(plan, load, stage_options(plan, load.id, {}));
+}
+
+PlanResult run_plan(const FitPlan& plan, const PlanObserver& observer, db::Problems problems) {
+  PlanResult result;
+  const db::FabricLoad load = db::load_fabric(plan.fabric);
+  const PipelineOptions options = stage_options(plan, load.id, observer);
+  problems.append(refusals(plan, load, options));
+  if (!problems.empty()) {
+    result.fit.status = PipelineStatus::invalid_input;
+    result.fit.message = "invalid input: nothing was run";
+    result.fit.problems = std::move(problems);
+    return result;
+  }
+  result.fit = run_pipeline(*load.fabric, options);
+  if (result.fit.status == PipelineStatus::invalid_input) return result;
+  try {
+    result.outputs = write_outputs(result.fit, plan.out);
+    if (plan.report) {
+      if (observer) observer({Stage::report, load.id, reports::Progress{}});
+      write_fit_report(plan, result);
+    }
+  } catch (const std::exception& e) {
+    result.write_error = plan.out.string() + ": file: " + e.what();
+  }
+  return result;
+}
+
+}  // namespace yarnfit::pipeline
