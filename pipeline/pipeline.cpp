@@ -1,18 +1,17 @@
 #include "pipeline/pipeline.hpp"
 
-#include <chrono>
 #include <stdexcept>
 
 #include "calibration/problem/generated_pattern.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::pipeline {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void add_prefixed(db::Problems& out, const db::Problems& in, const std::string& prefix) {
   for (const auto& p : in.items()) out.add(p.file, p.line, prefix + p.field, p.message);
@@ -61,16 +60,16 @@ PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Cloc
 
   // Stage 1: the shell fit and its uniform targets.
   result.shell = shell::fit_shell(fabric, options.shell);
-  result.seconds_shell = seconds_since(start);
+  result.seconds_shell = numerics::seconds_since(start);
   if (!result.shell->usable()) {
     result.status = PipelineStatus::shell_failed;
     result.message = result.shell->failure();
-    result.seconds_total = seconds_since(start);
+    result.seconds_total = numerics::seconds_since(start);
     return result;
   }
   if (options.stages == Stages::shell) {
     result.status = PipelineStatus::ok;
-    result.seconds_total = seconds_since(start);
+    result.seconds_total = numerics::seconds_since(start);
     return result;
   }
 
@@ -83,12 +82,12 @@ PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Cloc
     // The settings were checked above: the shell stage's targets cannot be fitted.
     result.status = PipelineStatus::yarn_failed;
     result.message = std::string("the shell stage's uniform targets: ") + e.what();
-    result.seconds_yarn = seconds_since(yarn_start);
-    result.seconds_total = seconds_since(start);
+    result.seconds_yarn = numerics::seconds_since(yarn_start);
+    result.seconds_total = numerics::seconds_since(start);
     return result;
   }
-  result.seconds_yarn = seconds_since(yarn_start);
-  result.seconds_total = seconds_since(start);
+  result.seconds_yarn = numerics::seconds_since(yarn_start);
+  result.seconds_total = numerics::seconds_since(start);
   result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
   if (!result.yarn->ok) result.message = "yarn fit failed: " + result.yarn->message;
   return result;

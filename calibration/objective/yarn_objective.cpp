@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -11,6 +10,7 @@
 #include <utility>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/clock.hpp"
 #include "reports/metrics/error_metrics.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 
@@ -18,7 +18,7 @@ namespace yarnfit::calibration {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 
 double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
 
@@ -34,7 +34,7 @@ ObjectiveResult finished(ObjectiveResult& out, std::string message, Clock::time_
     out.value = std::numeric_limits<double>::infinity();
     if (!out.lower_bound) out.directions.clear();
   }
-  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 
