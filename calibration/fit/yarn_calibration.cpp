@@ -91,11 +91,10 @@ swarm::ParameterSpace yarn_parameter_space(const yarn::ParameterScales& scales, 
   if (!linear_stretch) {
     p.push_back({"ks1", 1e-3 * scales.ks2, scales.ks2, true});
     // ε̄s per decade from 1e-4 (SPEC: [0, 0.15], linear). In fabric stretch the yarns strain
-    // by about 1 % (stockinette at 30 %: at most 1.4 %), so only onsets below that change the
-    // response: a linear search spends 90 % of its range where the soft phase carries
-    // everything and ks1 alone sets the curve, and both the swarm and the fit ended there
-    // (ks1 4.8× and 20× the truth at ε̄s = 0.066 and 0.119 against 0.005). An onset of 1e-4
-    // acts as 0 to within a 1e-4 strain of the stiff phase.
+    // by about 1 %, so only onsets below that change the response: a linear search spends
+    // 90 % of its range where the soft phase carries everything and ks1 alone sets the curve,
+    // and both the swarm and the fit ended there, far from a known truth (docs/calibration.md).
+    // An onset of 1e-4 acts as 0 to within a 1e-4 strain of the stiff phase.
     p.push_back({"eps_s", 1e-4, 0.15, true});
   }
   p.push_back({"kb", 1e-3 * scales.kb_base(), 10.0 * scales.kb_base(), true});
