@@ -1,78 +1,52 @@
 #include "batch/sha256.hpp"
 
-#include <cstdio>
+#include <openssl/err.h>
+#include <openssl/evp.h>
+
+#include <array>
 
 namespace yarnfit::batch {
 
 namespace {
 
-constexpr std::array<std::uint32_t, 64> k_round{
-    0x428a2f98, 0x71374491, 0xb5c0fbcf, 0xe9b5dba5, 0x3956c25b, 0x59f111f1, 0x923f82a4, 0xab1c5ed5,
-    0xd807aa98, 0x12835b01, 0x243185be, 0x550c7dc3, 0x72be5d74, 0x80deb1fe, 0x9bdc06a7, 0xc19bf174,
-    0xe49b69c1, 0xefbe4786, 0x0fc19dc6, 0x240ca1cc, 0x2de92c6f, 0x4a7484aa, 0x5cb0a9dc, 0x76f988da,
-    0x983e5152, 0xa831c66d, 0xb00327c8, 0xbf597fc7, 0xc6e00bf3, 0xd5a79147, 0x06ca6351, 0x14292967,
-    0x27b70a85, 0x2e1b2138, 0x4d2c6dfc, 0x53380d13, 0x650a7354, 0x766a0abb, 0x81c2c92e, 0x92722c85,
-    0xa2bfe8a1, 0xa81a664b, 0xc24b8b70, 0xc76c51a3, 0xd192e819, 0xd6990624, 0xf40e3585, 0x106aa070,
-    0x19a4c116, 0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
-    0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7, 0xc67178f2};
-
-constexpr std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
+// Sha256Error naming the failed step, with OpenSSL's queued reasons (oldest first) appended.
+[[noreturn]] void fail(const std::string& step) {
+  std::string message = "SHA-256 (OpenSSL): " + step + " failed";
+  while (const unsigned long code = ERR_get_error()) {
+    std::array<char, 256> text{};
+    ERR_error_string_n(code, text.data(), text.size());
+    message += std::string(": ") + text.data();
+  }
+  throw Sha256Error(message);
+}
 
 }  // namespace
 
-Sha256::Sha256()
-    : m_state{0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19} {}
+void Sha256::FreeContext::operator()(evp_md_ctx_st* ctx) const { EVP_MD_CTX_free(ctx); }
 
-void Sha256::compress(const std::uint8_t* block) {
-  std::array<std::uint32_t, 64> w{};
-  for (int i = 0; i < 16; ++i)
-    w[i] = (std::uint32_t{block[4 * i]} << 24) | (std::uint32_t{block[4 * i + 1]} << 16) |
-           (std::uint32_t{block[4 * i + 2]} << 8) | std::uint32_t{block[4 * i + 3]};
-  for (int i = 16; i < 64; ++i) {
-    const std::uint32_t s0 = rotr(w[i - 15], 7) ^ rotr(w[i - 15], 18) ^ (w[i - 15] >> 3);
-    const std::uint32_t s1 = rotr(w[i - 2], 17) ^ rotr(w[i - 2], 19) ^ (w[i - 2] >> 10);
-    w[i] = w[i - 16] + s0 + w[i - 7] + s1;
-  }
-  auto [a, b, c, d, e, f, g, h] = m_state;
-  for (int i = 0; i < 64; ++i) {
-    const std::uint32_t t1 = h + (rotr(e, 6) ^ rotr(e, 11) ^ rotr(e, 25)) + ((e & f) ^ (~e & g)) + k_round[i] + w[i];
-    const std::uint32_t t2 = (rotr(a, 2) ^ rotr(a, 13) ^ rotr(a, 22)) + ((a & b) ^ (a & c) ^ (b & c));
-    h = g;
-    g = f;
-    f = e;
-    e = d + t1;
-    d = c;
-    c = b;
-    b = a;
-    a = t1 + t2;
-  }
-  const std::array<std::uint32_t, 8> add{a, b, c, d, e, f, g, h};
-  for (int i = 0; i < 8; ++i) m_state[i] += add[i];
+Sha256::Sha256() : m_ctx(EVP_MD_CTX_new()) {
+  if (!m_ctx) fail("EVP_MD_CTX_new");
+  if (EVP_DigestInit_ex(m_ctx.get(), EVP_sha256(), nullptr) != 1) fail("EVP_DigestInit_ex");
 }
 
 void Sha256::update(std::string_view bytes) {
-  m_length += bytes.size();
-  for (const char ch : bytes) {
-    m_block[m_used++] = static_cast<std::uint8_t>(ch);
-    if (m_used == 64) {
-      compress(m_block.data());
-      m_used = 0;
-    }
-  }
+  if (m_finished) throw Sha256Error("SHA-256: update after hex_digest");
+  if (EVP_DigestUpdate(m_ctx.get(), bytes.data(), bytes.size()) != 1) fail("EVP_DigestUpdate");
 }
 
 std::string Sha256::hex_digest() {
-  const std::uint64_t bits = m_length * 8;
-  update(std::string_view("\x80", 1));
-  while (m_used != 56) update(std::string_view("\0", 1));
-  std::array<char, 8> length{};
-  for (int i = 0; i < 8; ++i) length[i] = static_cast<char>((bits >> (56 - 8 * i)) & 0xff);
-  update(std::string_view(length.data(), length.size()));
+  if (m_finished) throw Sha256Error("SHA-256: hex_digest called twice");
+  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+  unsigned int size = 0;
+  if (EVP_DigestFinal_ex(m_ctx.get(), digest.data(), &size) != 1) fail("EVP_DigestFinal_ex");
+  m_finished = true;
+  if (size != 32) throw Sha256Error("SHA-256 (OpenSSL): digest of " + std::to_string(size) + " bytes, not 32");
+  constexpr char k_hex[] = "0123456789abcdef";
   std::string hex;
-  for (const std::uint32_t word : m_state) {
-    char buf[9];
-    std::snprintf(buf, sizeof buf, "%08x", word);
-    hex += buf;
+  hex.reserve(2 * size);
+  for (unsigned int i = 0; i < size; ++i) {
+    hex += k_hex[digest[i] >> 4];
+    hex += k_hex[digest[i] & 0xf];
   }
   return hex;
 }

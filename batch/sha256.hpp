@@ -1,29 +1,38 @@
 #pragma once
-// SHA-256 (FIPS 180-4), for the batch ledger's fingerprints of fabric records: a changed byte
-// in a record, its curves, its tile or the fit options gives a different hash, so the fabric is
-// fitted again. Not used for anything secret.
+// SHA-256 (FIPS 180-4) through OpenSSL's EVP interface, for the batch ledger's fingerprints of
+// fabric records: a changed byte in a record, its curves, its tile or the fit options gives a
+// different hash, so the fabric is fitted again. Not used for anything secret.
 
-#include <array>
-#include <cstddef>
-#include <cstdint>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
+struct evp_md_ctx_st;  // OpenSSL's EVP_MD_CTX, kept out of the includers of this header
+
 namespace yarnfit::batch {
+
+// Thrown when OpenSSL fails (out of memory, a digest used after hex_digest); the message names
+// the step and carries OpenSSL's own reason.
+class Sha256Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 class Sha256 {
  public:
   Sha256();
   void update(std::string_view bytes);
-  // The digest as 64 lower-case hex digits; the object must not be updated afterwards.
+  // The digest as 64 lower-case hex digits; the object must not be updated afterwards (that,
+  // or a second call, throws Sha256Error).
   [[nodiscard]] std::string hex_digest();
 
  private:
-  void compress(const std::uint8_t* block);
-  std::array<std::uint32_t, 8> m_state{};
-  std::array<std::uint8_t, 64> m_block{};
-  std::size_t m_used = 0;       // bytes in m_block
-  std::uint64_t m_length = 0;   // message bytes so far
+  struct FreeContext {
+    void operator()(evp_md_ctx_st* ctx) const;
+  };
+  std::unique_ptr<evp_md_ctx_st, FreeContext> m_ctx;
+  bool m_finished = false;
 };
 
 [[nodiscard]] std::string sha256_hex(std::string_view bytes);

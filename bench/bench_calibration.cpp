@@ -19,7 +19,6 @@
 //                               [--tile NAME|PATH]   (../shared/data/patterns/NAME.pyp, or a .pyp file;
 //                                                   default stockinette)
 #include <algorithm>
-#include <chrono>
 #include <random>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +32,8 @@
 #include "calibration/objective/jacobian_check.hpp"
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "numerics/util/clock.hpp"
+#include "numerics/util/format.hpp"
 
 namespace {
 
@@ -160,9 +161,7 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
   const auto number = [](double v, const char* if_infinite) {
     if (std::isnan(v)) return std::string("-");
     if (std::isinf(v)) return std::string(if_infinite);
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", v);
-    return std::string(text);
+    return numerics::format_number(v, 4);
   };
   for (const auto& entry : r.profile.entries)
     std::printf("    %-6s g %s / %s   range %s / %s\n", entry.name.c_str(), number(entry.g_lower, "failed").c_str(),
@@ -323,13 +322,13 @@ void print_fidelity(const Problem& p, const calibration::YarnFitSettings& base, 
     o.rest.rounds = f.rounds;
     const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
     std::vector<double> g(candidates.size());
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = numerics::Clock::now();
 #pragma omp parallel for schedule(dynamic)
     for (int k = 0; k < count; ++k) {
       const auto r = objective.evaluate(candidates[static_cast<std::size_t>(k)]);
       g[static_cast<std::size_t>(k)] = r.ok ? r.value : std::numeric_limits<double>::infinity();
     }
-    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    seconds.push_back(numerics::seconds_since(t0));
     scores.push_back(g);
   }
   std::printf("fidelity: %d candidates (R1 within 5 %% of the truth), rank correlation with 20 samples / 40 rest rounds\n",

@@ -7,7 +7,6 @@
 // and accuracy versus time for three mesh resolutions (error against a finer mesh).
 // Usage: bench_shell_fit [SHARED_DIR]
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +16,7 @@
 #include <vector>
 
 #include "fabrics_db/records/fabric_reader.hpp"
+#include "numerics/util/clock.hpp"
 #include "reports/metrics/error_metrics.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
 #include "shell_fit/scenes/clamped_stretch.hpp"
@@ -28,9 +28,9 @@ namespace fs = std::filesystem;
 using namespace yarnfit;
 
 double seconds_of(const std::function<void()>& fn) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = numerics::Clock::now();
   fn();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return numerics::seconds_since(t0);
 }
 
 // Median of `repeats` timings.

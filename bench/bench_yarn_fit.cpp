@@ -24,13 +24,13 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "numerics/util/clock.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/homogenise/rest_shape.hpp"
 #include "yarn_fit/generate/slack_figures.hpp"
@@ -100,9 +100,9 @@ double factorisation_ms(const YarnSystem& system, const Eigen::VectorXd& g) {
   ldlt.analyzePattern(k);
   double best = 1e300;
   for (int repeat = 0; repeat < 20; ++repeat) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = numerics::Clock::now();
     ldlt.factorize(k);
-    best = std::min(best, 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    best = std::min(best, 1e3 * numerics::seconds_since(start));
   }
   return best;
 }

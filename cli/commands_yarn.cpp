@@ -13,7 +13,6 @@
 // exits 2 before anything is simulated.
 #include <omp.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,6 +24,7 @@
 #include "cli/progress_display.hpp"
 #include "cli/yarn_scene.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/clock.hpp"
 #include "yarn_fit/scenes/sample_json.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
@@ -33,11 +33,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Writes the optional OBJ dump; false (message on stderr) when the file cannot be written.
 bool dump_obj(const std::string& file, const yarn::YarnScene& scene, const Eigen::VectorXd& g,
@@ -76,7 +73,7 @@ void start_run(yarn::YarnScene& scene, const YarnSceneArgs& a, const std::string
                Clock::time_point start) {
   omp_set_num_threads(a.threads);
   if (a.rest_shape)
-    progress.update(command, stage_event("rest shape (" + std::to_string(a.rest_rounds) + " rounds)", seconds_since(start)));
+    progress.update(command, stage_event("rest shape (" + std::to_string(a.rest_rounds) + " rounds)", numerics::seconds_since(start)));
   yarn::prepare_rest_state(scene, scene_setup(a));
 }
 
@@ -112,10 +109,10 @@ int run_yarn_sim(const YarnSimArgs& a) {
                                          a.curvature_option->count() > 0};
   ProgressDisplay progress = ProgressDisplay::for_stderr(a.scene.quiet);
   start_run(*scene, a.scene, "yarn sim", progress, start);
-  progress.update("yarn sim", stage_event("equilibrium", seconds_since(start)));
+  progress.update("yarn sim", stage_event("equilibrium", numerics::seconds_since(start)));
   const yarn::SceneSample sample = yarn::simulate_scene_sample(*scene, request);
   progress.finish();
-  const json out = yarn::sample_json(*scene, request, sample, a.scene.threads, seconds_since(start));
+  const json out = yarn::sample_json(*scene, request, sample, a.scene.threads, numerics::seconds_since(start));
 
   bool dumped = true;
   if (!a.dump.empty()) {
@@ -204,7 +201,7 @@ int run_yarn_curve(const YarnCurveArgs& a) {
     p.step = static_cast<int>(i) + 1;
     p.steps = static_cast<int>(stretches.size());
     p.detail = "s = " + db::format_g(s.chi.stretch, 4);
-    p.seconds = seconds_since(sweep_start);
+    p.seconds = numerics::seconds_since(sweep_start);
     progress.update(task, p);
   };
   const yarn::StretchSweep sweep = yarn::sweep_stretch(*scene->system, scene->angle, stretches, scene->g, options);
@@ -235,7 +232,7 @@ int run_yarn_curve(const YarnCurveArgs& a) {
       std::cout << "\n";
     }
     std::cout << "  wrote " << a.out << (a.dump_dir.empty() ? "" : " and OBJ states in " + a.dump_dir) << " ("
-              << db::format_g(seconds_since(start), 3) << " s in all)\n";
+              << db::format_g(numerics::seconds_since(start), 3) << " s in all)\n";
   }
   if (!rest_ok)
     std::cerr << "yarn curve: rest shape not converged: " << yarn::to_string(scene->rest->last_solve.status) << ": "

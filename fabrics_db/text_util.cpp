@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <unistd.h>
+
+#include "numerics/util/format.hpp"
 
 namespace yarnfit::db {
 
@@ -103,11 +104,7 @@ std::string join_words(const std::vector<std::string>& words, std::string_view l
   return out;
 }
 
-std::string format_g(double value, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, value);
-  return buf;
-}
+std::string format_g(double value, int digits) { return numerics::format_number(value, digits); }
 
 std::string format_shortest(double value) {
   char buf[64];

@@ -1,19 +1,19 @@
 #include "pipeline/pipeline.hpp"
 
-#include <chrono>
 #include <stdexcept>
 
 #include "calibration/problem/generated_pattern.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::pipeline {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
+using numerics::seconds_since;
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void add_prefixed(db::Problems& out, const db::Problems& in, const std::string& prefix) {
   for (const auto& p : in.items()) out.add(p.file, p.line, prefix + p.field, p.message);

@@ -4,16 +4,17 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::swarm {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // One evaluation: the unit point, its residuals and g = |r|², or why it failed.
@@ -112,7 +113,7 @@ ImplicitFilteringSummary run_implicit_filtering(const ParameterSpace& space, con
     throw std::invalid_argument(std::string("implicit filtering start: ") + e.what());
   }
   const auto t0 = Clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const auto elapsed = [&] { return numerics::seconds_since(t0); };
   const auto out_of_time = [&] { return settings.max_seconds > 0.0 && elapsed() >= settings.max_seconds; };
   const int threads = settings.threads > 0 ? settings.threads : omp_get_max_threads();
 

@@ -3,12 +3,12 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 
+#include "numerics/util/clock.hpp"
 #include "swarm/random.hpp"
 #include "swarm/swarm_state.hpp"
 
@@ -18,11 +18,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Inertia of the move into iteration `iteration` (2 ≤ iteration ≤ iterations): linear from
 // inertia_start on the first move to inertia_end on the last.
@@ -183,7 +180,7 @@ void evaluate(detail::SwarmState& st, const ParameterSpace& space, const Particl
   rec.neighbour_distance = mean_neighbour_distance(st.position);
   rec.best_value = sum.best_value;
   if (sum.usable()) sum.best_point = space.from_unit(st.global_best);
-  rec.seconds = seconds_since(start);
+  rec.seconds = numerics::seconds_since(start);
   sum.history.push_back(rec);
 }
 
@@ -208,10 +205,10 @@ SwarmSummary continue_run(detail::SwarmState st, const ParameterSpace& space, co
     evaluate(st, space, objective, options, iteration, w);
     st.iterations_done = iteration;
     st.random_state = rng.state();
-    st.summary.seconds = seconds_before + seconds_since(run_start);
+    st.summary.seconds = seconds_before + numerics::seconds_since(run_start);
     if (!checkpoint.empty()) detail::write_checkpoint(checkpoint, space, st);
     if (options.progress) {
-      const double per_iteration = seconds_since(run_start) / (iteration - first);
+      const double per_iteration = numerics::seconds_since(run_start) / (iteration - first);
       const SwarmProgress p{st.summary.history.back(), st.settings.iterations, st.summary.best_point,
                             st.summary.evaluations, st.summary.failed, st.summary.seconds,
                             per_iteration * (st.settings.iterations - iteration)};

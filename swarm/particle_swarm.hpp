@@ -25,14 +25,11 @@
 // r = repulsion_radius · N^(−1/d) (the spacing of N particles on a regular grid of the unit
 // cube), s = repulsion_strength: the largest kick one neighbour gives, as a fraction of r.
 // The fade keeps particles apart while the swarm explores and lets it contract on the best
-// basin in the last iterations. Measured on the benchmark table of tests/swarm (median of 9
-// seeds for best values; 30 seeds for how often swarm + COBYLA reaches the global minimum):
-// a constant push (radius and strength 0.5) left the best values 1–12× worse than the same
-// push fading; with the fading default the success count equals that of no repulsion
-// within seed noise (352 vs 353 of 480 runs) while the particles' mean nearest-neighbour
-// distance in the last iteration is about 40 % larger (sphere_3d); radius 0.5 more than
-// doubles that distance but found ackley_3d's narrow global basin in 21 of 30 seeds
-// instead of 28. Raise repulsion_radius for objectives with several wide basins.
+// basin in the last iterations. On the benchmark table of tests/swarm a constant push left
+// worse best values than the same push fading, and the fading default reaches the global
+// minimum as often as no repulsion while keeping the particles further apart; a larger
+// radius spreads them more but misses narrow basins (figures: docs/calibration.md). Raise
+// repulsion_radius for objectives with several wide basins.
 //
 // Reproducible: every random number comes, serially, from one std::mt19937_64 seeded by
 // `seed` with distributions written in random.hpp; particles are evaluated in parallel

@@ -3,7 +3,6 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -11,14 +10,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "numerics/util/clock.hpp"
+
 namespace yarnfit::calibration {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // dθ/du of each coordinate at x (ParameterSpace: log-space coordinates are exponential in u).
 Eigen::VectorXd unit_derivative(const swarm::ParameterSpace& space, const Eigen::VectorXd& x) {
@@ -350,7 +349,7 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
       }
     }
     round.failed = held.failed || !round.accepted;
-    round.seconds = seconds_since(round_start);
+    round.seconds = numerics::seconds_since(round_start);
     out.rounds.push_back(round);
     failures_in_a_row = round.failed ? failures_in_a_row + 1 : 0;
     if (out.converged) return;
@@ -438,7 +437,7 @@ AlternationSummary run_alternation(const YarnObjective& objective, const swarm::
   if (!out.fallback_reason.empty() && out.best_point.size() > 0) fall_back(objective, space, to_params, settings, progress, out);
   out.ok = out.best_point.size() > 0 && std::isfinite(out.best_value);
   if (!out.ok && out.message.empty()) out.message = "no round evaluated its start";
-  out.seconds = seconds_since(t0);
+  out.seconds = numerics::seconds_since(t0);
   return out;
 }
 

@@ -11,8 +11,8 @@
 // tile's equilibria. Holding the rest state is what lets the Jacobian leave the rest shape's own
 // dependence on θ out honestly; relaxing it again at the run's result puts it back: that point
 // becomes θ_{k+1} if its own g is lower. The held rest state is a good model of g only near θ_k
-// (on the stockinette a run that moved half the ranges lowered the held g from 0.081 to 0.037
-// while the point's own g was 0.19), so each run stays inside a box around θ_k that grows
+// (a run that moved far lowered the held g while the point's own g rose: docs/calibration.md),
+// so each run stays inside a box around θ_k that grows
 // after a step the held model predicted well and shrinks after one it did not: a trust region
 // on the alternation. The rounds end when a run from θ_k no longer moves it (the alternation's
 // fixed point: Jᵀr = 0 with the rest state held at θ_k itself), when the box has shrunk below

@@ -4,19 +4,18 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::calibration {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void report(const GlobalSearchInput& in, const std::string& stage, const char* step_name, int step, int steps,
             double best) {
@@ -66,7 +65,7 @@ GlobalStage run_stage(const std::string& name, const GlobalSearchInput& in, cons
   stage.evaluations = stage.swarm.evaluations;
   stage.stopped = stopped.load();
   stage.best = stage.swarm.best_value;
-  stage.seconds = seconds_since(start);
+  stage.seconds = numerics::seconds_since(start);
   return stage;
 }
 
@@ -120,7 +119,7 @@ std::vector<GlobalCandidate> rescore(const GlobalSearchInput& in, std::vector<Gl
                    [](const GlobalCandidate& a, const GlobalCandidate& b) { return a.value < b.value; });
   stage.evaluations = n;
   stage.best = chosen.empty() ? kInf : chosen.front().value;
-  stage.seconds = seconds_since(start);
+  stage.seconds = numerics::seconds_since(start);
   report(in, "rescore", "candidate", n, n, stage.best);
   return chosen;
 }
@@ -143,7 +142,7 @@ GlobalSearchResult finish(GlobalSearchResult out, Clock::time_point start) {
   for (const auto& s : out.stages) out.evaluations += s.evaluations;
   out.ok = !out.stopped && !out.starts.empty();
   if (!out.ok && !out.stopped && out.message.empty()) out.message = "every candidate of the global search failed";
-  out.seconds = seconds_since(start);
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

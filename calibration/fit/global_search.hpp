@@ -43,10 +43,9 @@ struct SwarmStageSettings {
   int rest_rounds = 40;  // rounds of the rest-shape heuristic per candidate (RestShapeOptions::rounds)
 };
 
-// Defaults measured on the shared stockinette (bench_calibration fidelity: candidates with R1
-// within 5 % of a known truth ranked against 20 samples and 40 rest rounds): 4 samples and 12
-// rounds rank them as 4 samples and 40 rounds do (Spearman 0.67 and 0.69, the best three among
-// the best four) at 0.84× the cost; a candidate costs 1.7–3.9 core-s whatever its fidelity.
+// Defaults chosen with bench_calibration fidelity (candidates near a known truth ranked against
+// 20 samples and 40 rest rounds): 4 samples and 12 rounds rank them as 4 samples and 40 rounds
+// do, at less cost (figures: docs/calibration.md).
 struct StagedSearchSettings {
   SwarmStageSettings contact{8, 4, 3, 12};
   SwarmStageSettings all{16, 5, 4, 12};

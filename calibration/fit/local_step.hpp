@@ -32,8 +32,7 @@ enum class LocalMethod {
   // every range until a stencil of 0.5 % finds nothing better than its centre. Before exact
   // Jacobians this was the default: the objective is rough below about 1e-3 of the ranges (the
   // c* searches and the rest shape settle on one of several nearby equilibria) but smooth in its
-  // trend. COBYLA's linear models stall there: a default fit of bench_calibration's recovery
-  // targets with COBYLA ended at ks1 +84 %, ε̄s +65 %, kb +41 %, R1 +0.6 %, kc1 −33 %.
+  // trend. COBYLA's linear models stall there, far from a known truth (docs/calibration.md).
   implicit_filtering,
   cobyla,  // the thesis's local step (6.5.3), NLopt's COBYLA (swarm/cobyla.hpp)
 };

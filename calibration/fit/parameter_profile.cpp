@@ -3,10 +3,11 @@
 #include <omp.h>
 
 #include <Eigen/Dense>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::calibration {
 
@@ -48,7 +49,7 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
   if (!(step > 0.0 && step < 1.0)) throw std::invalid_argument("parameter profile: step must be in (0, 1)");
   if (x_fit.size() != space.dimension())
     throw std::invalid_argument("parameter profile: the fitted point has the wrong size");
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   ParameterProfile out;
   out.step = step;
   out.g_fit = at_fit.value;
@@ -109,7 +110,7 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
     e.range_alone_factor = ok ? ranges[static_cast<std::size_t>(i)].alone : kNaN;
   }
   out.computed = true;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

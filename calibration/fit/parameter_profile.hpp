@@ -1,10 +1,9 @@
 #pragma once
 // How sharply the targets determine each fitted yarn parameter, measured around the fit.
 //
-// Stretch curves of a knit pin the parameters very unequally: on the stockinette tile
-// (bench_calibration's toe truth, g at the truth 7.9e-5) g rises 4700× and 19000× for R1
-// 10 % smaller and larger, but only 3× and 6× for ks1 and 2× for ε̄s, because the yarns'
-// stretch is in series with the softer bending and contact of the loops. A user needs to
+// Stretch curves of a knit pin the parameters very unequally: a 10 % change of R1 raises g
+// by orders of magnitude more than one of ks1 or ε̄s (docs/calibration.md), because the
+// yarns' stretch is in series with the softer bending and contact of the loops. A user needs to
 // know which fitted values the data stand behind, so every fit reports, per optimised
 // parameter p_i (from 2 evaluations each of the local step's objective, in parallel):
 //  * the one-at-a-time profile: g with p_i × 1/(1 + step) and × (1 + step), the others at

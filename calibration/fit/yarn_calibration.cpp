@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -14,18 +13,16 @@
 #include "calibration/fit/fit_checkpoint.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
+#include "numerics/util/clock.hpp"
 #include "reports/metrics/error_metrics.hpp"
 
 namespace yarnfit::calibration {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // A progress event of the fit: the best objective of the stage, its planned steps (the local
 // step may stop before its evaluation budget).
@@ -94,11 +91,10 @@ swarm::ParameterSpace yarn_parameter_space(const yarn::ParameterScales& scales, 
   if (!linear_stretch) {
     p.push_back({"ks1", 1e-3 * scales.ks2, scales.ks2, true});
     // ε̄s per decade from 1e-4 (SPEC: [0, 0.15], linear). In fabric stretch the yarns strain
-    // by about 1 % (stockinette at 30 %: at most 1.4 %), so only onsets below that change the
-    // response: a linear search spends 90 % of its range where the soft phase carries
-    // everything and ks1 alone sets the curve, and both the swarm and the fit ended there
-    // (ks1 4.8× and 20× the truth at ε̄s = 0.066 and 0.119 against 0.005). An onset of 1e-4
-    // acts as 0 to within a 1e-4 strain of the stiff phase.
+    // by about 1 %, so only onsets below that change the response: a linear search spends
+    // 90 % of its range where the soft phase carries everything and ks1 alone sets the curve,
+    // and both the swarm and the fit ended there, far from a known truth (docs/calibration.md).
+    // An onset of 1e-4 acts as 0 to within a 1e-4 strain of the stiff phase.
     p.push_back({"eps_s", 1e-4, 0.15, true});
   }
   p.push_back({"kb", 1e-3 * scales.kb_base(), 10.0 * scales.kb_base(), true});
@@ -168,7 +164,7 @@ class FitRun {
   [[nodiscard]] yarn::YarnParams params(const Eigen::VectorXd& x) const {
     return params_from_point(x, m_scales, m_s.linear_stretch);
   }
-  [[nodiscard]] double elapsed() const { return seconds_since(m_start); }
+  [[nodiscard]] double elapsed() const { return numerics::seconds_since(m_start); }
   [[nodiscard]] bool keep_going() const { return !m_s.keep_going || m_s.keep_going(); }
 
   // The local step's starts: the global step's, or the one the settings give.
@@ -227,7 +223,7 @@ class FitRun {
       out.local_runs[static_cast<std::size_t>(i)] = local_run(i, starts[static_cast<std::size_t>(i)].point);
       ran[static_cast<std::size_t>(i)] = 1;
     }
-    out.seconds_local = seconds_since(t0);
+    out.seconds_local = numerics::seconds_since(t0);
     if (std::find(ran.begin(), ran.end(), 0) != ran.end()) return false;
     for (const auto& r : out.local_runs) {
       out.evaluations += r.evaluations;

@@ -50,11 +50,10 @@ struct YarnFitSettings {
   int local_samples = 12;  // in the local step, the rescore and the final evaluation
   // Where c* is solved, per stage: 0 (default) at every stretch sample, by continuation
   // along s; N ≥ 2 at N evenly spread samples with c linear in between (the objective's
-  // compression_nodes; 2 is the thesis's both-ends scheme of 6.5.3). On the stockinette tile,
-  // weft 0–30 %, the two-node interpolant is off the true c* by up to 28 % of the
-  // compression norm: the true parameters score g = 0.0368 (7 samples), and a wrong basin
-  // (ks1 ×4.8 with ε̄s above every yarn strain) scores 0.0370, so a swarm on that objective
-  // cannot tell them apart; with c* at every sample they score 0 and 0.00125.
+  // compression_nodes; 2 is the thesis's both-ends scheme of 6.5.3). The two-node interpolant
+  // is far enough off the true c* that the true parameters and a wrong basin score alike, so
+  // a swarm on that objective cannot tell them apart; with c* at every sample it can
+  // (figures: docs/calibration.md).
   int swarm_compression_nodes = 0;
   int local_compression_nodes = 0;
   std::uint64_t seed = 1;
@@ -78,9 +77,8 @@ struct YarnFitSettings {
   int local_evaluations = 150;
   double local_initial_step = 0.05;  // COBYLA's first step, as a fraction of each range
   double local_initial_scale = 0.02;  // implicit filtering's first stencil half-width (unit cube)
-  // Converged once the half-width falls below this: after the stencils of 2, 1 and 0.5 %.
-  // With 0.002 the default recovery fit of bench_calibration made its last move at
-  // evaluation 82 of 134; the 4 stencils after it, down to 0.25 %, found nothing better.
+  // Converged once the half-width falls below this: after the stencils of 2, 1 and 0.5 %; the
+  // 0.25 % stencil found nothing better in a recovery fit (docs/calibration.md).
   double local_min_scale = 0.003;
   // The fit's checkpoint (fit_checkpoint.hpp; the swarm stages write <checkpoint>.<stage>
   // beside it); empty: none.

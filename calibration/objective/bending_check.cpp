@@ -1,23 +1,23 @@
 #include "calibration/objective/bending_check.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "calibration/objective/rest_state.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
+#include "numerics/util/clock.hpp"
 #include "reports/metrics/error_metrics.hpp"
 
 namespace yarnfit::calibration {
 
 BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                            const yarn::YarnParams& params, const ObjectiveOptions& options, int points) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   BendingCheck out;
   auto finish = [&](std::string message) {
     out.ok = message.empty();
     out.message = std::move(message);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = numerics::seconds_since(start);
     return out;
   };
   bool any = false;

@@ -1,19 +1,20 @@
 #include "calibration/objective/jacobian_check.hpp"
 
 #include <algorithm>
-#include <chrono>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::calibration {
 
 JacobianCheck check_residual_jacobian(const YarnObjective& objective, const RestState& rest,
                                       const yarn::YarnParams& params, std::span<const yarn::YarnParam> wanted,
                                       const std::vector<double>& relative_steps) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   JacobianCheck out;
   const auto finish = [&](std::string message) {
     out.ok = message.empty();
     out.message = std::move(message);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = numerics::seconds_since(start);
     return out;
   };
   // The centre records where its samples ended; the differences start there, so all three

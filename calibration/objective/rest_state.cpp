@@ -1,17 +1,17 @@
 #include "calibration/objective/rest_state.hpp"
 
-#include <chrono>
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::calibration {
 
 RestState relax_rest_state(const yarn::YarnTile& tile, const yarn::YarnParams& params, const RestStateOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   RestState out;
   out.params = params;
   const auto finish = [&](std::string message) {
     out.ok = message.empty();
     out.message = std::move(message);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = numerics::seconds_since(start);
     return out;
   };
   if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);

@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -11,6 +10,7 @@
 #include <utility>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/clock.hpp"
 #include "reports/metrics/error_metrics.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 
@@ -18,7 +18,7 @@ namespace yarnfit::calibration {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 
 double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
 
@@ -34,7 +34,7 @@ ObjectiveResult finished(ObjectiveResult& out, std::string message, Clock::time_
     out.value = std::numeric_limits<double>::infinity();
     if (!out.lower_bound) out.directions.clear();
   }
-  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 
@@ -104,10 +104,9 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
   if (m_options.solve.loose_tolerance == 0.0) {
     m_options.solve.loose_tolerance = 1e-3 * smallest_norm * m_tile.shorter_period();
   }
-  // The stress read-out test stays off here unless asked for: with it (1e-4 of the smallest
-  // stress norm) the default fit of bench_calibration's toe truth ended with ks1 18 % off
-  // (g 2.7e-4 at the fit) where it had been 1.3 % off: the local step's stencil differences
-  // see where each solve happened to stop. Solves end at the force or the loose tolerance.
+  // The stress read-out test stays off here unless asked for: with it the local step's stencil
+  // differences see where each solve happened to stop, and a known-truth fit ended far off
+  // the truth (docs/calibration.md). Solves end at the force or the loose tolerance.
   if (m_options.solve.stress_tolerance < 0.0) m_options.solve.stress_tolerance = 0.0;
   if (m_options.rest_period) {
     m_options.period.tolerance = Eigen::Vector2d::Constant(m_options.period_stress_fraction * smallest_norm);

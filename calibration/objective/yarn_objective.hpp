@@ -61,9 +61,9 @@ struct ObjectiveOptions {
   int samples = 7;                         // stretch samples per direction (≥ 2)
   // true (default): c* solved at every sample, each search starting from the march's state
   // at the targets' compression. false: only at `compression_nodes` samples, linear in
-  // between; 2 nodes is the thesis's scheme (6.5.3). The interpolant is off the true c* by up
-  // to 28 % of the compression norm on the stockinette tile (weft 0–30 %), which biases the
-  // optimum; with the stress-tolerance band the per-sample searches are short, and an
+  // between; 2 nodes is the thesis's scheme (6.5.3). The interpolant is far enough off the
+  // true c* to bias the optimum (docs/calibration.md); with the stress-tolerance band the
+  // per-sample searches are short, and an
   // evaluation costs less than the march plus two searches did (yarn_calibration.hpp).
   bool free_compression_every_sample = true;
   // Number of stretches (sample points, evenly spread, both ends included) where c* is
@@ -92,14 +92,12 @@ struct ObjectiveOptions {
   yarn::RestShapeOptions rest;
   // true (--relax-period): after the rest shape, the tile period is relaxed per candidate
   // until its coarse stress at χ = 0 vanishes (rest_period.hpp), so that every candidate
-  // starts from its own stress-free rest, as the targets do (S = 0 at s = 0). Off by default,
-  // measured on the acrylic records with generated tiles (default fits, session 9): the
-  // stockinette's fit had S(0) = 7.7 N/m weft and 3.1 N/m warp without it (0.02 with), and its
-  // comfort-range errors went 28/25 → 20/17 %, but g rose on all three knits tried
-  // (stockinette 0.34 → 0.53, garter 0.21 → 0.23, rib 0.31 → 0.39) and the garter's and the
-  // rib's comfort errors grew; on those two the free compression at s = 0 already leaves
-  // |S(0)| ≤ 0.3 N/m. Candidates cost 1.3–1.8× as much. The period's tolerance is set to
-  // period_stress_fraction of the smallest comfort stress norm when the objective is built.
+  // starts from its own stress-free rest, as the targets do (S = 0 at s = 0). Off by default:
+  // on the acrylic records with generated tiles it removed the stockinette's rest stress and
+  // lowered its comfort-range errors, but g rose on every knit tried, the free compression at
+  // s = 0 already leaves little rest stress on the others, and candidates cost more (figures:
+  // docs/calibration.md). The period's tolerance is set to period_stress_fraction of the
+  // smallest comfort stress norm when the objective is built.
   bool rest_period = false;
   double period_stress_fraction = 1e-2;
   yarn::RestPeriodOptions period;

@@ -1,7 +1,6 @@
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -9,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/clock.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
@@ -20,7 +20,7 @@ using db::format_g;
 
 SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const yarn::YarnParams& params,
                                           const SyntheticYarnOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   if (options.directions.empty()) throw std::invalid_argument("synth yarn: no direction given");
   if (!(options.max_stretch > 0.0) || !std::isfinite(options.max_stretch)) {
     throw std::invalid_argument("synth yarn: max stretch must be positive and finite");
@@ -54,7 +54,7 @@ SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const ya
     }
     out.targets.push_back(std::move(t));
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

@@ -2,26 +2,19 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include "numerics/util/clock.hpp"
+#include "numerics/util/format.hpp"
+
 namespace yarnfit::numerics {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
 
 double infinity_norm(const Eigen::VectorXd& v) { return v.size() > 0 ? v.lpNorm<Eigen::Infinity>() : 0.0; }
 
@@ -105,7 +98,7 @@ Eigen::VectorXd projected_gradient(const Eigen::MatrixXd* c, const Eigen::Vector
 NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const NewtonOptions& options,
                            ShiftedLdlt* workspace) {
   const auto start = Clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const auto elapsed = [&] { return seconds_since(start); };
   std::string why;
   if (!options.is_valid(&why)) throw std::invalid_argument("solve_newton: " + why);
 

@@ -112,9 +112,8 @@ struct NewtonOptions {
   // that enters as (1 − x)⁶ gives the ratio (n − 2)/(n − 1) = 0.8 — and then the change still
   // to come is at most 0.8/(1 − 0.8) = 4 times the last one, within readout_tolerance,
   // although the residual may be far above `tolerance`. That bound does not hold when the
-  // state then slides along a mechanism (slack yarns): on satin_small at 3 % weft the settled
-  // stress differed from a solve ten times longer by 3.6 × the tolerance (tests/yarn_fit,
-  // SlackTile). Callers choose the tolerance a decade below what they compare.
+  // state then slides along a mechanism (slack yarns: tests/yarn_fit, SlackTile; figures in
+  // docs/slack-tiles.md). Callers choose the tolerance a decade below what they compare.
   double readout_tolerance = 0.0;
   int readout_steps = 3;
 

@@ -3,17 +3,16 @@
 #include <nlopt.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "numerics/util/clock.hpp"
+
 namespace yarnfit::numerics {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Why the wrapper itself stopped NLopt (NLopt then reports NLOPT_FORCED_STOP).
 enum class OwnStop { none, evaluations, time };
@@ -52,7 +51,7 @@ double callback(unsigned n, const double* u_raw, double* gradient, void* data) {
     return penalty(c);
   }
   if (c.settings.max_seconds > 0.0 &&
-      std::chrono::duration<double>(Clock::now() - c.start).count() >= c.settings.max_seconds) {
+      seconds_since(c.start) >= c.settings.max_seconds) {
     c.own_stop = OwnStop::time;
     nlopt_force_stop(c.opt);
     return penalty(c);
@@ -191,7 +190,7 @@ CobylaSummary run_cobyla(const Objective& objective, const Eigen::VectorXd& star
   if (s.evaluations > 0 && s.failed == s.evaluations) s.message += "; every evaluation failed";
   // The best point seen (or the start when nothing succeeded), never NLopt's last iterate.
   s.best_point = c.best;
-  s.seconds = std::chrono::duration<double>(Clock::now() - c.start).count();
+  s.seconds = seconds_since(c.start);
   return s;
 }
 

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <set>
 #include <sstream>
 
+#include "numerics/util/format.hpp"
 #include "reports/metrics/error_metrics.hpp"
 
 namespace yarnfit::reports {
@@ -19,9 +19,7 @@ double at(const json& j, const char* key) { return j.is_object() && j.contains(k
 // A CSV cell: the number with 10 significant digits, or empty for no figure.
 std::string cell(double v) {
   if (!std::isfinite(v)) return "";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
+  return numerics::format_number(v, 10);
 }
 
 std::string csv_text(const std::string& text) {

@@ -2,18 +2,17 @@
 
 #include <ceres/ceres.h>
 
+#include "numerics/util/clock.hpp"
+#include "numerics/util/format.hpp"
 #include "reports/metrics/error_metrics.hpp"
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
-#include <iomanip>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 namespace yarnfit::shell {
@@ -22,11 +21,6 @@ namespace {
 
 std::size_t idx(int i) { return static_cast<std::size_t>(i); }
 
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << std::setprecision(4) << v;
-  return out.str();
-}
 
 
 // Search range of the bending length relative to the free length: from a strip that hangs
@@ -161,8 +155,8 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
     if (search_failed) {
       out.fallbacks.push_back(std::string(db::to_string(dir)) + " test (" + k_bending_names[slot] +
                               "): start search failed, the pear loop did not reach equilibrium at bending length " +
-                              format_number(ell_failed * 1e3) + " mm; started from " +
-                              format_number(ell_start * 1e3) + " mm instead of the data's match");
+                              numerics::format_number(ell_failed * 1e3) + " mm; started from " +
+                              numerics::format_number(ell_start * 1e3) + " mm instead of the data's match");
     }
   }
   tie_unmeasured(out.params, out.measured);
@@ -294,10 +288,10 @@ BendingParams initial_bending_guess(const db::Fabric& fabric, const InplaneParam
 }
 
 BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inplane, const BendingFitOptions& options) {
-  const auto start_time = std::chrono::steady_clock::now();
+  const auto start_time = numerics::Clock::now();
   BendingFitResult result;
   const auto finish = [&]() -> BendingFitResult& {
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+    result.seconds = numerics::seconds_since(start_time);
     return result;
   };
   if (fabric.bending_tests.empty()) {
@@ -396,7 +390,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     result.not_identified.push_back(std::string(k_bending_names[h]) + ": no " +
                                     std::string(db::to_string(static_cast<db::Direction>(h))) +
                                     " bending test (held at the geometric mean of the fitted k_theta: " +
-                                    format_number(result.params.ktheta[idx(h)]) + " N*m)");
+                                    numerics::format_number(result.params.ktheta[idx(h)]) + " N*m)");
   }
   for (std::size_t j = 0; j < free.size(); ++j)
     result.bounds[k_bending_names[free[j]]] = {std::exp(q_lo[j]), std::exp(q_hi[j])};

@@ -7,13 +7,13 @@
 #include <glog/logging.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <string>
 #include <utility>
 
+#include "numerics/util/clock.hpp"
 #include "reports/progress.hpp"
 
 namespace yarnfit::shell {
@@ -24,7 +24,7 @@ namespace yarnfit::shell {
 // seconds since `start`.
 class ProgressCallback : public ceres::IterationCallback {
  public:
-  ProgressCallback(reports::ProgressFn fn, std::chrono::steady_clock::time_point start,
+  ProgressCallback(reports::ProgressFn fn, numerics::Clock::time_point start,
                    std::function<double(double)> error_of)
       : m_fn(std::move(fn)), m_start(start), m_error_of(std::move(error_of)) {}
   // A new stage: its name, its budget of iterations (0: unknown) and what a step is.
@@ -46,7 +46,7 @@ class ProgressCallback : public ceres::IterationCallback {
     p.best = std::isfinite(m_best) ? m_best : std::numeric_limits<double>::quiet_NaN();
     p.best_label = "rms error";
     p.best_unit = "%";
-    p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    p.seconds = numerics::seconds_since(m_start);
     m_fn(p);
   }
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
@@ -57,7 +57,7 @@ class ProgressCallback : public ceres::IterationCallback {
 
  private:
   reports::ProgressFn m_fn;
-  std::chrono::steady_clock::time_point m_start;
+  numerics::Clock::time_point m_start;
   std::function<double(double)> m_error_of;
   std::string m_stage;
   int m_steps = 0;

@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include "numerics/util/clock.hpp"
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
 #include "shell_fit/fit/search_map.hpp"
@@ -10,7 +11,6 @@
 #include <Eigen/QR>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -394,7 +394,7 @@ namespace {
 
 InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
                                   std::vector<InplaneStart> lockup_starts, const std::string& law) {
-  const auto start_time = std::chrono::steady_clock::now();
+  const auto start_time = numerics::Clock::now();
   InplaneFitResult result;
   result.model = options.model;
   if (fabric.stretch_tests.empty()) {
@@ -650,7 +650,7 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     }
     result.errors_reason = result.message;
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  result.seconds = numerics::seconds_since(start_time);
   return result;
 }
 

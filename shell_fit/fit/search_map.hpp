@@ -12,9 +12,9 @@
 //   the direction's reference strain x_r (the Green strain that ends its fitted range),
 //     σ = φ'(x_r) = l x_r² h_2(b x_r),   l = σ / g(b),   g(b) = x_r² h_2(b x_r),
 //   searched linearly from 0 (no lock-up). Over a fitted range a faster rate with a smaller l
-//   gives nearly the same curve; in (l, b) that is a long curved valley the fit crept along (the
-//   acrylic rib: still improving after 1000 iterations). At fixed σ a change of b only changes
-//   the curve's shape, and the rib converges.
+//   gives nearly the same curve; in (l, b) that is a long curved valley the fit crept along
+//   (docs/shell-fit.md). At fixed σ a change of b only changes the curve's shape, and the
+//   fit converges.
 
 #include <Eigen/Core>
 #include <array>

@@ -43,7 +43,8 @@ struct SyntheticShellOptions {
   int bending_points = 7;               // clamp distances evenly over [3, 34] mm (the fit's targets)
   double areal_density = 0.18;          // [kg/m²]; written as areal_density_gsm
   // The pear loop's mesh: 2 mm cells, unlike the bending fit's 2.5 mm (a different mesh at a
-  // similar cost; a refinement would make every loop about five times slower).
+  // similar cost; a refinement would make every loop several times slower:
+  // docs/shell-fit.md).
   double bending_target_edge = 2e-3;
   int bending_refinements = 0;
 };

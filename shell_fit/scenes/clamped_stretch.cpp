@@ -2,13 +2,13 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include "numerics/roots/bracketed_root.hpp"
+#include "numerics/util/clock.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
 #include "shell_fit/mesh/rect_mesh.hpp"
 
@@ -108,7 +108,7 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
 
 ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const std::vector<double>& targets,
                                            bool with_sensitivities, ClampedStretchWarmStart* warm) const {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   ClampedStretchRun out;
   const MembraneTerm membrane(m_mesh, params, k_dim);
   const TermList terms{&membrane};
@@ -196,7 +196,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
 
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const double target = targets[i];
-    const auto target_start = std::chrono::steady_clock::now();
+    const auto target_start = numerics::Clock::now();
     const int iterations_before = out.newton_iterations;
     if (!(target > -1.0)) {
       out.message = "stretch target " + std::to_string(target) + " is not > -1";
@@ -342,7 +342,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       sample.dcompression_dp = dc.head<np>() + dc[np] * du_dp;
       if (dm[np] > 0.0) slope = dm[np];
     }
-    sample.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - target_start).count();
+    sample.seconds = numerics::seconds_since(target_start);
     out.samples.push_back(sample);
     if (warm) {
       warm->targets[i] = target;
@@ -352,7 +352,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
     }
   }
   out.ok = true;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

@@ -2,7 +2,6 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -11,6 +10,7 @@
 #include <string>
 
 #include "numerics/roots/bracketed_root.hpp"
+#include "numerics/util/clock.hpp"
 #include "shell_fit/energies/bending_term.hpp"
 #include "shell_fit/energies/gravity_term.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
@@ -26,9 +26,6 @@ constexpr double pi = std::numbers::pi;
 // B = 2 k_θ (pear_loop.hpp).
 constexpr double k_bending_factor = 2.0;
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::size_t idx(int i) { return static_cast<std::size_t>(i); }
 
@@ -214,7 +211,7 @@ PearLoopScene::Shape PearLoopScene::measure(const Eigen::VectorXd& x) const {
 
 PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<double>& clamp_distances,
                                bool with_sensitivities, PearLoopWarmStart* warm) const {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   PearLoopRun out;
   const MembraneTerm membrane(m_mesh, params.inplane, k_dim);
   const BendingTerm bending(m_mesh, params.bending);
@@ -250,7 +247,7 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
   }
 
   for (const double d : clamp_distances) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = numerics::Clock::now();
     PearLoopSample sample;
     sample.clamp_distance = d;
     Eigen::VectorXd x;
@@ -369,14 +366,14 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
         }
       }
     }
-    sample.seconds = seconds_since(t0);
+    sample.seconds = numerics::seconds_since(t0);
     if (out.message.empty() && !sample.message.empty()) out.message = sample.message;
     out.samples.push_back(sample);
   }
   out.ok = true;
   for (const auto& s : out.samples)
     if (!s.converged || (with_sensitivities && !s.has_sensitivities)) out.ok = false;
-  out.seconds = seconds_since(start);
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

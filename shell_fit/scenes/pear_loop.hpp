@@ -77,9 +77,9 @@ struct PearLoopSetup {
   // with long thin cells the hinges of the diagonals, nearly parallel to the fold lines,
   // share the loop's folding with them at almost no membrane strain, and since the hinge
   // energy is quadratic in each angle, two hinges with half the angle cost half as much. The
-  // loop then bends as if k_θ were about halved (r 15–20 % too high at ℓ ≈ 1 cm with 2.5 ×
-  // 30 mm cells); with square cells the diagonals lie at 45° and folding them stretches the
-  // membrane, and r converges to the inextensible elastica's.
+  // loop then bends as if k_θ were much smaller (docs/shell-fit.md); with square cells the
+  // diagonals lie at 45° and folding them stretches the membrane, and r converges to the
+  // inextensible elastica's.
   int cells_across = 0;
   double target_edge = 2.5e-3;  // default cell size [m]
   int refinements = 0;          // midpoint subdivisions (mesh-convergence checks)

@@ -1,28 +1,19 @@
 #include "shell_fit/solver/static_equilibrium.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <utility>
+
+#include "numerics/util/clock.hpp"
+#include "numerics/util/format.hpp"
 
 namespace yarnfit::shell {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
+using numerics::Clock;
 
 // Which DOFs are free, and their index among the free ones.
 struct FreeDofs {
@@ -220,7 +211,7 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
   const auto finish = [&](const NewtonSummary& last, std::string message) {
     total.status = last.status;
     total.message = std::move(message);
-    total.seconds = seconds_since(start);
+    total.seconds = numerics::seconds_since(start);
     return total;
   };
 
@@ -233,7 +224,7 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
   total.residual = first.residual;
   if (!first.converged()) {
     return finish(first, "continuation: no equilibrium at the start, lambda = " +
-                             format_number(options.start_lambda) + ": " + first.message);
+                             numerics::format_number(options.start_lambda) + ": " + first.message);
   }
   x = current;
 
@@ -285,11 +276,11 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
     step *= 0.5;
     if (step < options.min_step) {
       x = current;  // the last converged state
-      return finish(s, "continuation stopped at lambda = " + format_number(lambda) +
-                           ": the load step to " + format_number(target) + " failed (" +
+      return finish(s, "continuation stopped at lambda = " + numerics::format_number(lambda) +
+                           ": the load step to " + numerics::format_number(target) + " failed (" +
                            to_string(s.status) + ": " + s.message + ") and the halved step " +
-                           format_number(step) + " fell below min_step " +
-                           format_number(options.min_step) + " after " +
+                           numerics::format_number(step) + " fell below min_step " +
+                           numerics::format_number(options.min_step) + " after " +
                            std::to_string(total.cut_backs) + " cut-backs");
     }
   }

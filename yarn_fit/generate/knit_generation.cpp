@@ -1,11 +1,11 @@
 #include "yarn_fit/generate/knit_generation.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "numerics/util/clock.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
@@ -49,7 +49,7 @@ db::PeriodicTile tile_at_rest(const db::PeriodicTile& source, const YarnSystem& 
 }
 
 GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGenerationOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   GeneratedTile out;
   out.initial = db::make_knit_tile(chart, options.geometry);
   const double radius = options.geometry.yarn_radius;
@@ -101,7 +101,7 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
   double rest_length = 0.0;
   for (const double l : out.tile.rest_lengths) rest_length += l;
   out.stitch_length = rest_length / (chart.courses() * chart.wales());
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

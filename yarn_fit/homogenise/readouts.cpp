@@ -1,7 +1,6 @@
 #include "yarn_fit/homogenise/readouts.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -10,12 +9,13 @@
 
 #include "numerics/optim/cobyla.hpp"
 #include "numerics/roots/bracketed_root.hpp"
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::yarn {
 
 Sample simulate_sample(YarnSystem& system, const CoarseDeformation& chi, Eigen::VectorXd& g,
                        const EquilibriumOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   Sample s;
   s.chi = chi;
   system.set_deformation(chi);
@@ -39,7 +39,7 @@ Sample simulate_sample(YarnSystem& system, const CoarseDeformation& chi, Eigen::
   } else {
     s.message = std::string("equilibrium ") + to_string(s.last_solve.status) + ": " + s.last_solve.message;
   }
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.seconds = numerics::seconds_since(start);
   return s;
 }
 
@@ -153,7 +153,7 @@ Sample read_band(CompressionSearch& search, Sample at_root, const Eigen::VectorX
 
 Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::VectorXd& g,
                               const CompressionOptions& co, const EquilibriumOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   CompressionSearch search{system, chi, g, g, g, options, 0, 0, false, Sample{}, Sample{},
                            std::numeric_limits<double>::infinity()};
   Sample result;
@@ -219,7 +219,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
   }
   result.solves = search.evaluations;
   result.newton_iterations = search.iterations;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = numerics::seconds_since(start);
   return result;
 }
 

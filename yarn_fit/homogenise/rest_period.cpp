@@ -2,8 +2,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <chrono>
 #include <cmath>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::yarn {
 namespace {
@@ -18,7 +19,7 @@ Eigen::Matrix2d diagonal_strain(const Eigen::Vector2d& e) {
 }  // namespace
 
 RestPeriodResult relax_rest_period(YarnSystem& system, Eigen::VectorXd& g, const RestPeriodOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   RestPeriodResult out;
   const YarnTile base = system.tile();
   if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());
@@ -52,7 +53,7 @@ RestPeriodResult relax_rest_period(YarnSystem& system, Eigen::VectorXd& g, const
     system.set_deformation(CoarseDeformation{});
     out.period_stretch = diagonal_strain(e);
     out.rest_stress = system.coarse_stress(g);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = numerics::seconds_since(start);
     return out;
   };
   if (!stress_at(e, state, p, energy)) return finish();

@@ -1,9 +1,10 @@
 #include "yarn_fit/homogenise/rest_shape.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <Eigen/LU>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::yarn {
 
@@ -106,7 +107,7 @@ void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions
 }  // namespace
 
 RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions& given) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   // Every round solves to the force tolerance: the heuristic's fixed point depends on how far
   // each round relaxes, and rounds ended by the stress read-out test gave satin_small another
   // rest shape (σ_s at 10 % weft, c = −0.056: 45.8 N/m instead of 35.8).
@@ -134,7 +135,7 @@ RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const R
   for (std::size_t e = 0; e < tile.edges.size(); ++e)
     out.max_length_change = std::max(out.max_length_change,
                                      std::abs(tile.edges[e].rest_length / tile.input_rest_lengths[e] - 1.0));
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

@@ -3,7 +3,8 @@
 // the rest lengths and rest curvatures to the current configuration, so that the tile's rest
 // state is stable (small coarse stress) while the yarns stay close to the input geometry.
 // Rest lengths stay within ±max_length_change of the input; every round's solve converges
-// (the thesis runs only a few Newton iterations in early rounds: `early_rounds`). The final state is a converged equilibrium with the new rest shape.
+// (the thesis runs only a few Newton iterations in early rounds: `early_rounds`). The final
+// state is a converged equilibrium with the new rest shape.
 
 #include <Eigen/Core>
 
@@ -13,44 +14,39 @@
 namespace yarnfit::yarn {
 
 struct RestShapeOptions {
-  // The coarse rest stress falls geometrically with the rounds (stockinette, default
-  // parameters: 10 % of σ_s(10 %) after 12 rounds, 6 % after 40).
+  // The coarse rest stress falls geometrically with the rounds (figures: docs/calibration.md,
+  // "Moved from yarn_fit/homogenise/rest_shape.hpp").
   int rounds = 40;
   // Rounds with only `early_iterations` Newton iterations (the thesis's "few steps early").
   // Off by default: a solve cut short after a few iterations ends wherever its line searches
   // and contact-list rebuilds took it, so the rest shape, and every fit objective built on it,
-  // jumps when a parameter changes by 1e-6 (normalised stress errors moved by 5e-3 on
-  // stockinette, weft 0–20 %); with every round converged they move by 4e-7, and the
-  // heuristic costs about the same (0.53 s against 0.48 s on that tile).
+  // jumps when a parameter changes by 1e-6; with every round converged the objective moves
+  // smoothly, and the heuristic costs about the same (figures: docs/calibration.md).
   int early_rounds = 0;
   int early_iterations = 4;
   double max_length_change = 0.2;  // |L̄ / L̄_input − 1| ≤ this
   // Reset L̄ ← L̄ + ω (L − L̄) (and likewise κ̄). ω = 1 is the thesis's reset; ω ≈ 1.5 halves
-  // the rest stress left after 40 rounds but loosens the tile further (rest lengths move
-  // 12 % instead of 9 % on the stockinette tile).
+  // the rest stress left after 40 rounds but loosens the tile further (its rest lengths move
+  // further from the input's: docs/calibration.md).
   double over_relaxation = 1.0;
   // Final stage: adjust the tile's period by a small symmetric in-plane stretch (I + E) so
   // that the coarse normal stress at χ = 0 nearly vanishes (the shear: see period_shear).
   // The resets cannot remove the stress carried by contacts, and each further round loosens
-  // the tile while the ratio of the rest stress to the stress at 10 % stretch stays near 5 %;
+  // the tile while the ratio of the rest stress to the stress at 10 % stretch hardly falls;
   // a nearly stress-free rest state is what the fit compares the targets against (a fabric
   // at rest carries no stress).
   bool relax_period = true;
   double max_period_change = 0.1;  // |E_ij| ≤ this
   // Chord-Newton steps on P(E) = 0 (after 2 solves, 3 with shear, for ∂P/∂E). Four steps
-  // leave about a tenth of the stress (stockinette: P00 0.09 → 0.01 N/m). Solving further
-  // (Broyden's method to 1e-3 of it) leaves the tile slack across: c* is then undetermined
-  // over a wide band, and the true parameters scored g = 0.0023 on their own targets, against
-  // 8e-5 with these four steps.
+  // leave about a tenth of the stress. Solving further (Broyden's method to 1e-3 of it) leaves
+  // the tile slack across: c* is then undetermined over a wide band, and the true parameters
+  // score far worse on their own targets (figures: docs/calibration.md).
   int period_iterations = 4;
   // Relax the period's shear E01 as well. Off by default: the tile is soft in shear at rest,
-  // so zeroing a small shear stress takes a large E01 (stockinette, default parameters: 1.5 %
-  // for 0.015 N/m), and E01 jumped whenever the rounds above settled in a nearby equilibrium
-  // instead of another (recovery parameters of bench_calibration: −2.5e-3 → −3.9e-3 for a
-  // 1.7 % change of ks1). Without it the true parameters score g = 7.9e-5 on their own
-  // targets instead of 2.7e-4 (20 samples), and a default fit took 1063 s instead of 1472 s.
-  // The shear stress left is small: the bias direction's rest stress is 1.3 % of its σ_s at
-  // 10 % stretch (tests/yarn_fit, RestShapeLeavesLittleCoarseStress...).
+  // so zeroing a small shear stress takes a large E01, and E01 jumped whenever the rounds
+  // above settled in a nearby equilibrium instead of another. Without it the true parameters
+  // score better on their own targets and a default fit is faster; the shear stress left is
+  // small (tests/yarn_fit, RestShapeLeavesLittleCoarseStress...; figures: docs/calibration.md).
   bool period_shear = false;
   EquilibriumOptions solve;  // its stress_tolerance is not used: every solve goes to the force tolerance
 };

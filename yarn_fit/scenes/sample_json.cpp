@@ -1,17 +1,17 @@
 #include "yarn_fit/scenes/sample_json.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::yarn {
 
 namespace {
 
 using nlohmann::json;
-using Clock = std::chrono::steady_clock;
+using numerics::Clock;
 
 json number_or_null(bool ok, double v) { return ok && std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -52,7 +52,7 @@ SceneSample simulate_scene_sample(YarnScene& scene, const SceneSampleRequest& r)
     out.newton_iterations += bend->centre.newton_iterations;
     out.solves += bend->centre.solves;
   }
-  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
 
   const bool rest_ok = !scene.rest || scene.rest->converged;
   const bool sample_ok = sample.ok && (!bend || bend->ok);

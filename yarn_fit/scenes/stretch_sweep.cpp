@@ -1,9 +1,10 @@
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
+
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::yarn {
 
@@ -18,7 +19,7 @@ std::vector<double> even_stretches(double max_stretch, int points) {
 
 StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<double>& stretches,
                            Eigen::VectorXd& g, const StretchSweepOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = numerics::Clock::now();
   StretchSweep out;
   out.points.reserve(stretches.size());
   if (g.size() != system.dof_count()) g = Eigen::VectorXd::Zero(system.dof_count());
@@ -44,7 +45,7 @@ StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<d
     out.points.push_back(s);
     if (options.on_point) options.on_point(i, out.points.back(), g);
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = numerics::seconds_since(start);
   return out;
 }
 

@@ -88,10 +88,9 @@ numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, con
   o.project_after_failed_line_search = false;
   // An indefinite exact Hessian is first shifted (Levenberg): the shifted step still follows
   // the directions of negative curvature out of a saddle, where the per-element projection
-  // would discard them and creep (a bias-stretched stockinette otherwise took hundreds of
-  // linearly converging iterations). A shift beyond 1e-3 of the mean diagonal falls back to
-  // the projection, which takes longer steps far from equilibrium (1e-3 was the best of
-  // 1e-7 … 1e-1 on cold and warm stockinette and rib solves).
+  // would discard them and creep, converging linearly. A shift beyond 1e-3 of the mean
+  // diagonal falls back to the projection, which takes longer steps far from equilibrium
+  // (the limit chosen by measurement: docs/slack-tiles.md).
   o.shift_initial = 1e-8;
   o.exact_shift_limit = 1e-3;
   o.exact_shift_growth = 10.0;

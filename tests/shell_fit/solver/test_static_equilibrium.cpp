@@ -7,7 +7,6 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
-#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -16,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "numerics/util/clock.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
 #include "shell_fit/mesh/rect_mesh.hpp"
 #include "shell_fit/solver/static_equilibrium.hpp"
@@ -227,10 +227,9 @@ StretchResult stretch_membrane(const ShellMesh& mesh, const InplaneParams& param
   };
   StretchResult r;
   r.x = rest;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = numerics::Clock::now();
   r.summary = solve_continuation(terms_of({&membrane}), r.x, fixed, set_boundary, options);
-  r.milliseconds =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  r.milliseconds = 1e3 * numerics::seconds_since(t0);
   r.force = clamp_force(terms_of({&membrane}), r.x, right, 2, 0);
   return r;
 }
