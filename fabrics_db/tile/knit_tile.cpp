@@ -5,7 +5,10 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
+
+#include "numerics/roots/bisection.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -51,12 +54,11 @@ double loop_length(const LoopShape& s, int n) {
 
 // The x in [lo, hi] where the increasing function f crosses `target`, to a relative 1e-12.
 template <class F>
-double bisect(F f, double lo, double hi, double target) {
-  for (int it = 0; it < 200 && hi - lo > 1e-12 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (f(mid) < target ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+double solve_increasing(F f, double lo, double hi, double target) {
+  numerics::BisectionOptions o;
+  o.halvings = 200;
+  o.relative_width = 1e-12;
+  return numerics::bisect([&](double x) -> std::optional<bool> { return f(x) < target; }, lo, hi, o).x;
 }
 
 // The depths of loop (j, k) for crossings `gap` apart (the header's rules).
@@ -122,7 +124,7 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
                                 " mm is too short for loops whose crossings are " + std::to_string(gap * 1e3) +
                                 " mm apart (2 x yarn radius x depth): it needs more than " +
                                 std::to_string(shortest * 1e3) + " mm");
-  const double w = bisect(mean_length, 1e-9 * length, length, length);
+  const double w = solve_increasing(mean_length, 1e-9 * length, length, length);
 
   KnitTile out;
   out.chart = chart;
@@ -146,8 +148,8 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
         t.a = a;
         return loop_length(t, n);
       };
-      if (length_at(a0) < length) s.a = bisect(length_at, a0, 4.0 * a0 + 0.1 * w, length);
-      else if (length_at(a0) > length && length_at(0.0) < length) s.a = bisect(length_at, 0.0, a0, length);
+      if (length_at(a0) < length) s.a = solve_increasing(length_at, a0, 4.0 * a0 + 0.1 * w, length);
+      else if (length_at(a0) > length && length_at(0.0) < length) s.a = solve_increasing(length_at, 0.0, a0, length);
       out.stitch_lengths.push_back(loop_length(s, n));
       for (int i = 0; i < n; ++i) {
         const int v = (j * wales + k) * n + i;

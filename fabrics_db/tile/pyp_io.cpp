@@ -339,173 +339,185 @@ void fill_tile_defaults(PeriodicTile& tile) {
   if (tile.reference_twists.empty()) tile.reference_twists.assign(nv, 0.0);
 }
 
-std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string& file_label,
-                                      Problems& problems) {
-  Reporter report(file_label, problems);
-  if (trim(text).empty()) {
-    report.add(0, "file", "file is empty; expected a pyp tile starting with *pattern");
-    return std::nullopt;
-  }
-  const SplitResult split = split_sections(text, report);
-  const auto section = [&](std::string_view name) -> const Section* {
-    const auto it = split.sections.find(name);
-    return it == split.sections.end() ? nullptr : &it->second;
-  };
+namespace {
+
+// *pattern: px py radius n. The periods and radius go into `tile`; n is the row count of
+// every other section.
+struct Pattern {
+  std::optional<int> n;
+  std::string n_origin;  // where n comes from, for the row-count problems
+  bool ok = false;       // all four values good
+};
+
+// The sections every file must have, each reported once where the file ends.
+void report_missing_sections(const SplitResult& split, Reporter& report) {
   for (const auto& spec : section_specs()) {
-    if (spec.required && section(spec.name) == nullptr) {
+    if (spec.required && !split.sections.contains(spec.name)) {
       report.add(split.last_line, "*" + std::string(spec.name),
                  "required section *" + std::string(spec.name) + " is missing (file ends at line " +
                      std::to_string(split.last_line) + "; truncated file?)");
     }
   }
+}
 
-  // *pattern: px py radius n.
-  PeriodicTile tile;
-  std::optional<int> n;
-  std::string n_origin;
-  bool pattern_ok = false;
-  if (const Section* s = section("pattern")) {
-    const Parsed p = parse_section(*s, 1, "one line: px py radius n",
-                                   split.last_section == "pattern", split.last_line, false, report);
-    if (!p.values.empty() && p.ok[0]) {
-      const auto& v = p.values[0];
-      const int line = p.lines[0];
-      pattern_ok = true;
-      const char* names[] = {"px", "py", "radius"};
-      for (int c = 0; c < 3; ++c) {
-        if (!(v[static_cast<std::size_t>(c)] > 0.0)) {
-          report.add(line, "*pattern " + std::string(names[c]),
-                     "must be positive, found " + format_g(v[static_cast<std::size_t>(c)], 17));
-          pattern_ok = false;
-        }
-      }
-      tile.period_x = v[0];
-      tile.period_y = v[1];
-      tile.radius = v[2];
-      // n is read as a number so that "13.0" gets a clear message rather than a parse error.
-      const double nv = v[3];
-      if (!(nv >= 1.0) || nv != std::floor(nv) || nv > 1e8) {
-        report.add(line, "*pattern n",
-                   "number of vertices and edges must be a positive integer, found " +
-                       std::string(s->rows[0].tokens[3]));
-        pattern_ok = false;
-      } else {
-        n = static_cast<int>(nv);
-        n_origin = "n = " + std::to_string(*n) + " in *pattern on line " + std::to_string(line);
-      }
+Pattern read_pattern(const SplitResult& split, PeriodicTile& tile, Reporter& report) {
+  Pattern out;
+  const auto it = split.sections.find("pattern");
+  if (it == split.sections.end()) return out;
+  const Section& s = it->second;
+  const Parsed p = parse_section(s, 1, "one line: px py radius n", split.last_section == "pattern", split.last_line,
+                                 false, report);
+  if (p.values.empty() || !p.ok[0]) return out;
+  const auto& v = p.values[0];
+  const int line = p.lines[0];
+  out.ok = true;
+  const char* names[] = {"px", "py", "radius"};
+  for (int c = 0; c < 3; ++c) {
+    if (!(v[static_cast<std::size_t>(c)] > 0.0)) {
+      report.add(line, "*pattern " + std::string(names[c]),
+                 "must be positive, found " + format_g(v[static_cast<std::size_t>(c)], 17));
+      out.ok = false;
     }
   }
+  tile.period_x = v[0];
+  tile.period_y = v[1];
+  tile.radius = v[2];
+  // n is read as a number so that "13.0" gets a clear message rather than a parse error.
+  const double nv = v[3];
+  if (!(nv >= 1.0) || nv != std::floor(nv) || nv > 1e8) {
+    report.add(line, "*pattern n",
+               "number of vertices and edges must be a positive integer, found " + std::string(s.rows[0].tokens[3]));
+    out.ok = false;
+  } else {
+    out.n = static_cast<int>(nv);
+    out.n_origin = "n = " + std::to_string(*out.n) + " in *pattern on line " + std::to_string(line);
+  }
+  return out;
+}
 
-  // All other sections have n rows.
+// All sections but *pattern: n rows each (*E of integers).
+std::map<std::string_view, Parsed> parse_row_sections(const SplitResult& split, const Pattern& pattern,
+                                                      Reporter& report) {
   std::map<std::string_view, Parsed> parsed;
   for (const auto& spec : section_specs()) {
     if (spec.name == "pattern") continue;
-    if (const Section* s = section(spec.name)) {
-      parsed[spec.name] = parse_section(*s, n, n_origin, split.last_section == spec.name,
+    if (const auto it = split.sections.find(spec.name); it != split.sections.end()) {
+      parsed[spec.name] = parse_section(it->second, pattern.n, pattern.n_origin, split.last_section == spec.name,
                                         split.last_line, spec.name == "E", report);
     }
   }
-  const Parsed* q = parsed.contains("Q") ? &parsed.at("Q") : nullptr;
-  const Parsed* e = parsed.contains("E") ? &parsed.at("E") : nullptr;
+  return parsed;
+}
 
-  // Edges: indices, offsets, one outgoing and one incoming edge per vertex, no zero length.
-  if (e != nullptr) {
-    const int vertex_count = n ? *n : (q ? static_cast<int>(q->values.size()) : -1);
-    std::vector<int> out_line(vertex_count > 0 ? static_cast<std::size_t>(vertex_count) : 0, 0);
-    std::vector<int> in_line(out_line.size(), 0);
-    std::vector<bool> edge_ok = e->ok;
-    struct Repeat {
-      int line = 0;
-      bool outgoing = false;
-      std::size_t vertex = 0;
-      int first_line = 0;
-    };
-    std::vector<Repeat> repeats;
-    for (std::size_t i = 0; i < e->values.size(); ++i) {
-      if (!e->ok[i]) continue;
-      const auto& v = e->values[i];
-      const int line = e->lines[i];
-      for (int c = 0; c < 2; ++c) {
-        const double idx = v[static_cast<std::size_t>(c)];
-        if (idx < 0 || (vertex_count >= 0 && idx >= vertex_count)) {
-          report.add(line, c == 0 ? "*E v0" : "*E v1",
-                     "vertex index " + format_g(idx, 17) + " out of range" +
-                         (vertex_count > 0 ? " [0, " + std::to_string(vertex_count - 1) + "]"
-                                           : std::string()));
-          edge_ok[i] = false;
-        }
-      }
-      for (int c = 2; c < 4; ++c) {
-        const double off = v[static_cast<std::size_t>(c)];
-        if (off < -1 || off > 1) {
-          report.add(line, c == 2 ? "*E dx" : "*E dy",
-                     "period offset " + format_g(off, 17) + " outside {-1, 0, 1}");
-          edge_ok[i] = false;
-        }
-      }
-      if (!edge_ok[i] || vertex_count < 0) continue;
-      const auto v0 = static_cast<std::size_t>(v[0]);
-      const auto v1 = static_cast<std::size_t>(v[1]);
-      // A vertex with a second outgoing (incoming) edge is reported on the line of that
-      // edge; which vertex is left without one is only known at the end.
-      if (out_line[v0] != 0) {
-        repeats.push_back({line, true, v0, out_line[v0]});
-        edge_ok[i] = false;
-      } else {
-        out_line[v0] = line;
-      }
-      if (in_line[v1] != 0) {
-        repeats.push_back({line, false, v1, in_line[v1]});
-        edge_ok[i] = false;
-      } else {
-        in_line[v1] = line;
-      }
-    }
-    // With as many edges as vertices, every vertex without an edge goes with another vertex's
-    // second one, so reporting the second edges (naming the vertices left without) gives one
-    // problem per mistake. Vertices left without an edge because of a bad row or a missing
-    // row were already reported there.
-    const auto without = [&](const std::vector<int>& lines, const char* kind) {
-      std::vector<std::string> names;
-      for (std::size_t vtx = 0; vtx < lines.size(); ++vtx) {
-        if (lines[vtx] == 0) names.push_back(std::to_string(vtx));
-      }
-      if (names.empty()) return std::string();
-      return "; vert" + std::string(names.size() == 1 ? "ex " : "ices ") + join_words(names, " and ") +
-             " ha" + (names.size() == 1 ? "s" : "ve") + " no " + kind + " edge";
-    };
-    for (const Repeat& r : repeats) {
-      const char* kind = r.outgoing ? "outgoing" : "incoming";
-      report.add(r.line, r.outgoing ? "*E v0" : "*E v1",
-                 "vertex " + std::to_string(r.vertex) + " has a second " + kind +
-                     " edge (the first is on line " + std::to_string(r.first_line) + ")" +
-                     without(r.outgoing ? out_line : in_line, kind) +
-                     "; every vertex needs exactly one outgoing and one incoming edge, so that "
-                     "yarns are closed periodic loops");
-    }
-    // Zero-length edges need the positions and the periods.
-    if (q != nullptr && pattern_ok) {
-      const double tol = k_zero_length_fraction * std::max(tile.period_x, tile.period_y);
-      for (std::size_t i = 0; i < e->values.size(); ++i) {
-        if (!edge_ok[i]) continue;
-        const auto& v = e->values[i];
-        const auto v0 = static_cast<std::size_t>(v[0]);
-        const auto v1 = static_cast<std::size_t>(v[1]);
-        if (v0 >= q->values.size() || v1 >= q->values.size() || !q->ok[v0] || !q->ok[v1]) continue;
-        const Vec3 a = {q->values[v0][0], q->values[v0][1], q->values[v0][2]};
-        const Vec3 b = {q->values[v1][0] + v[2] * tile.period_x, q->values[v1][1] + v[3] * tile.period_y,
-                        q->values[v1][2]};
-        if (norm(sub(b, a)) <= tol) {
-          report.add(e->lines[i], "*E",
-                     "edge from vertex " + std::to_string(v0) + " to vertex " + std::to_string(v1) +
-                         " (offset " + format_g(v[2]) + " " + format_g(v[3]) +
-                         ") has zero length; its end points coincide");
-        }
-      }
+// A vertex's second outgoing (or incoming) edge, reported once the edges are all read.
+struct RepeatedEnd {
+  int line = 0;
+  bool outgoing = false;
+  std::size_t vertex = 0;
+  int first_line = 0;
+};
+
+// "; vertices 3 and 7 have no outgoing edge" for the vertices whose line is 0 (none: "").
+std::string vertices_without(const std::vector<int>& lines, const char* kind) {
+  std::vector<std::string> names;
+  for (std::size_t vtx = 0; vtx < lines.size(); ++vtx) {
+    if (lines[vtx] == 0) names.push_back(std::to_string(vtx));
+  }
+  if (names.empty()) return std::string();
+  return "; vert" + std::string(names.size() == 1 ? "ex " : "ices ") + join_words(names, " and ") + " ha" +
+         (names.size() == 1 ? "s" : "ve") + " no " + kind + " edge";
+}
+
+// Whether the indices and offsets of edge row i are in range (each bad one reported).
+bool edge_row_in_range(const Parsed& e, std::size_t i, int vertex_count, Reporter& report) {
+  const auto& v = e.values[i];
+  const int line = e.lines[i];
+  bool ok = true;
+  for (int c = 0; c < 2; ++c) {
+    const double idx = v[static_cast<std::size_t>(c)];
+    if (idx < 0 || (vertex_count >= 0 && idx >= vertex_count)) {
+      report.add(line, c == 0 ? "*E v0" : "*E v1",
+                 "vertex index " + format_g(idx, 17) + " out of range" +
+                     (vertex_count > 0 ? " [0, " + std::to_string(vertex_count - 1) + "]" : std::string()));
+      ok = false;
     }
   }
+  for (int c = 2; c < 4; ++c) {
+    const double off = v[static_cast<std::size_t>(c)];
+    if (off < -1 || off > 1) {
+      report.add(line, c == 2 ? "*E dx" : "*E dy", "period offset " + format_g(off, 17) + " outside {-1, 0, 1}");
+      ok = false;
+    }
+  }
+  return ok;
+}
 
-  // Rest lengths must be positive; directors must be unit vectors.
+// Edges: indices, offsets, one outgoing and one incoming edge per vertex. Returns which rows
+// are good edges (for the zero-length check).
+std::vector<bool> check_edge_ends(const Parsed& e, int vertex_count, Reporter& report) {
+  std::vector<int> out_line(vertex_count > 0 ? static_cast<std::size_t>(vertex_count) : 0, 0);
+  std::vector<int> in_line(out_line.size(), 0);
+  std::vector<bool> edge_ok = e.ok;
+  std::vector<RepeatedEnd> repeats;
+  for (std::size_t i = 0; i < e.values.size(); ++i) {
+    if (!e.ok[i]) continue;
+    if (!edge_row_in_range(e, i, vertex_count, report)) edge_ok[i] = false;
+    if (!edge_ok[i] || vertex_count < 0) continue;
+    const int line = e.lines[i];
+    const auto v0 = static_cast<std::size_t>(e.values[i][0]);
+    const auto v1 = static_cast<std::size_t>(e.values[i][1]);
+    // A vertex with a second outgoing (incoming) edge is reported on the line of that
+    // edge; which vertex is left without one is only known at the end.
+    if (out_line[v0] != 0) {
+      repeats.push_back({line, true, v0, out_line[v0]});
+      edge_ok[i] = false;
+    } else {
+      out_line[v0] = line;
+    }
+    if (in_line[v1] != 0) {
+      repeats.push_back({line, false, v1, in_line[v1]});
+      edge_ok[i] = false;
+    } else {
+      in_line[v1] = line;
+    }
+  }
+  // With as many edges as vertices, every vertex without an edge goes with another vertex's
+  // second one, so reporting the second edges (naming the vertices left without) gives one
+  // problem per mistake. Vertices left without an edge because of a bad row or a missing
+  // row were already reported there.
+  for (const RepeatedEnd& r : repeats) {
+    const char* kind = r.outgoing ? "outgoing" : "incoming";
+    report.add(r.line, r.outgoing ? "*E v0" : "*E v1",
+               "vertex " + std::to_string(r.vertex) + " has a second " + kind + " edge (the first is on line " +
+                   std::to_string(r.first_line) + ")" + vertices_without(r.outgoing ? out_line : in_line, kind) +
+                   "; every vertex needs exactly one outgoing and one incoming edge, so that "
+                   "yarns are closed periodic loops");
+  }
+  return edge_ok;
+}
+
+void report_zero_length_edges(const Parsed& e, const std::vector<bool>& edge_ok, const Parsed& q,
+                              const PeriodicTile& tile, Reporter& report) {
+  const double tol = k_zero_length_fraction * std::max(tile.period_x, tile.period_y);
+  for (std::size_t i = 0; i < e.values.size(); ++i) {
+    if (!edge_ok[i]) continue;
+    const auto& v = e.values[i];
+    const auto v0 = static_cast<std::size_t>(v[0]);
+    const auto v1 = static_cast<std::size_t>(v[1]);
+    if (v0 >= q.values.size() || v1 >= q.values.size() || !q.ok[v0] || !q.ok[v1]) continue;
+    const Vec3 a = {q.values[v0][0], q.values[v0][1], q.values[v0][2]};
+    const Vec3 b = {q.values[v1][0] + v[2] * tile.period_x, q.values[v1][1] + v[3] * tile.period_y,
+                    q.values[v1][2]};
+    if (norm(sub(b, a)) <= tol) {
+      report.add(e.lines[i], "*E",
+                 "edge from vertex " + std::to_string(v0) + " to vertex " + std::to_string(v1) + " (offset " +
+                     format_g(v[2]) + " " + format_g(v[3]) + ") has zero length; its end points coincide");
+    }
+  }
+}
+
+// Rest lengths must be positive; directors must be unit vectors.
+void check_rest_lengths_and_directors(const std::map<std::string_view, Parsed>& parsed, Reporter& report) {
   if (const auto it = parsed.find("RL"); it != parsed.end()) {
     for (std::size_t i = 0; i < it->second.values.size(); ++i) {
       if (it->second.ok[i] && !(it->second.values[i][0] > 0.0)) {
@@ -524,19 +536,19 @@ std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string
       }
     }
   }
+}
 
-  if (report.count() > 0 || q == nullptr || e == nullptr) return std::nullopt;
-
-  // No problems: every section present has exactly n good rows.
-  const auto& qv = q->values;
-  const auto& ev = e->values;
-  for (std::size_t i = 0; i < qv.size(); ++i) {
-    tile.positions.push_back({qv[i][0], qv[i][1], qv[i][2]});
-    tile.twists.push_back(qv[i][3]);
+// The values of a file without problems (every section present has exactly n good rows);
+// sections left out get their documented defaults.
+void fill_tile_values(const Parsed& q, const Parsed& e, const std::map<std::string_view, Parsed>& parsed,
+                      PeriodicTile& tile) {
+  for (const auto& v : q.values) {
+    tile.positions.push_back({v[0], v[1], v[2]});
+    tile.twists.push_back(v[3]);
   }
-  for (const auto& v : ev) {
-    tile.edges.push_back(TileEdge{static_cast<int>(v[0]), static_cast<int>(v[1]),
-                                  static_cast<int>(v[2]), static_cast<int>(v[3])});
+  for (const auto& v : e.values) {
+    tile.edges.push_back(
+        TileEdge{static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]), static_cast<int>(v[3])});
   }
   for (const auto& [name, p] : parsed) {
     for (const auto& v : p.values) {
@@ -547,7 +559,34 @@ std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string
       else if (name == "RefT") tile.reference_twists.push_back(v[0]);
     }
   }
-  fill_tile_defaults(tile);  // sections left out get their documented defaults
+  fill_tile_defaults(tile);
+}
+
+}  // namespace
+
+std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string& file_label,
+                                      Problems& problems) {
+  Reporter report(file_label, problems);
+  if (trim(text).empty()) {
+    report.add(0, "file", "file is empty; expected a pyp tile starting with *pattern");
+    return std::nullopt;
+  }
+  const SplitResult split = split_sections(text, report);
+  report_missing_sections(split, report);
+  PeriodicTile tile;
+  const Pattern pattern = read_pattern(split, tile, report);
+  const std::map<std::string_view, Parsed> parsed = parse_row_sections(split, pattern, report);
+  const Parsed* q = parsed.contains("Q") ? &parsed.at("Q") : nullptr;
+  const Parsed* e = parsed.contains("E") ? &parsed.at("E") : nullptr;
+  if (e != nullptr) {
+    const int vertex_count = pattern.n ? *pattern.n : (q ? static_cast<int>(q->values.size()) : -1);
+    const std::vector<bool> edge_ok = check_edge_ends(*e, vertex_count, report);
+    // Zero-length edges need the positions and the periods.
+    if (q != nullptr && pattern.ok) report_zero_length_edges(*e, edge_ok, *q, tile, report);
+  }
+  check_rest_lengths_and_directors(parsed, report);
+  if (report.count() > 0 || q == nullptr || e == nullptr) return std::nullopt;
+  fill_tile_values(*q, *e, parsed, tile);
   return tile;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The one 1-D root finder of the project: a root of an increasing function f on [lower,
-// upper], from a guess, for
+// The 1-D root finder of the project: a root of an increasing function f on [lower, upper],
+// from a guess (a crossing known only by its side: bisection.hpp), for
 //  * the zero-orthogonal-stress compression of the yarn tile, ∂Ψ/∂c = 0 (readouts.hpp: each
 //    evaluation an equilibrium solve);
 //  * the same for the fitted shell model (shell_fit/targets: the uniform targets);

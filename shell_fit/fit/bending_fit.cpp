@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include "numerics/roots/bisection.hpp"
 #include "numerics/util/clock.hpp"
 #include "numerics/util/format.hpp"
 #include "reports/metrics/error_metrics.hpp"
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace yarnfit::shell {
@@ -107,55 +109,43 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
       if (progress) progress->report(++trial, std::numeric_limits<double>::infinity());
       return run.ok ? run.samples[0].aspect_ratio : std::nan("");
     };
+    // ℓ lies below the crossing while its loop is rounder than the data (r above r_target);
+    // the last r seen on each side is kept for the interpolation below.
+    double r_lo = std::nan(""), r_hi = std::nan("");
+    const auto too_soft = [&](double ell) -> std::optional<bool> {
+      const double r = r_at(ell);
+      if (!std::isfinite(r)) return std::nullopt;
+      (r > r_target ? r_lo : r_hi) = r;
+      return r > r_target;
+    };
     // Bracket r_target between ℓ_lo (r above it) and ℓ_hi (r below it), doubling ℓ.
-    double ell = std::clamp(0.25 * L, ell_min, ell_max);
-    double r = r_at(ell);
-    double lo = ell_min, hi = ell_max, r_lo = std::nan(""), r_hi = std::nan("");
-    while (std::isfinite(r)) {
-      if (r > r_target) {
-        lo = ell;
-        r_lo = r;
-        if (std::isfinite(r_hi) || ell >= ell_max) break;
-        ell = std::min(2.0 * ell, ell_max);
-      } else {
-        hi = ell;
-        r_hi = r;
-        if (std::isfinite(r_lo) || ell <= ell_min) break;
-        ell = std::max(0.5 * ell, ell_min);
-      }
-      r = r_at(ell);
-    }
+    numerics::FactorBracketOptions bo;
+    bo.lower = ell_min;
+    bo.upper = ell_max;
+    const double ell_first = std::clamp(0.25 * L, ell_min, ell_max);
+    const numerics::FactorBracket bracket = numerics::bracket_by_factor(too_soft, ell_first, bo);
     // The search stopped on a trial that did not reach equilibrium, before a bracket closed:
     // the start below is then a fallback, not the data's.
-    const bool search_failed = !std::isfinite(r) && !(std::isfinite(r_lo) && std::isfinite(r_hi));
-    const double ell_failed = ell;
-    double ell_start = ell;
-    if (std::isfinite(r_lo) && std::isfinite(r_hi)) {
+    const bool search_failed = bracket.failed_at.has_value();
+    double ell_start = ell_first;  // no trial reached equilibrium
+    if (bracket.bracketed()) {
       // Bisection in log ℓ to a factor 2^(1/16) (13 % in k_θ), then linear in log ℓ.
-      for (int it = 0; it < 4; ++it) {
-        const double m = std::sqrt(lo * hi);
-        const double rm = r_at(m);
-        if (!std::isfinite(rm)) break;
-        if (rm > r_target) {
-          lo = m;
-          r_lo = rm;
-        } else {
-          hi = m;
-          r_hi = rm;
-        }
-      }
+      numerics::BisectionOptions so;
+      so.midpoint = numerics::Midpoint::geometric;
+      so.halvings = 4;
+      const numerics::BisectionResult b = numerics::bisect(too_soft, *bracket.below, *bracket.above, so);
       const double frac = (r_lo - r_target) / (r_lo - r_hi);
-      ell_start = std::exp(std::log(lo) + std::clamp(frac, 0.0, 1.0) * (std::log(hi) - std::log(lo)));
-    } else if (std::isfinite(r_lo)) {
+      ell_start = std::exp(std::log(b.lower) + std::clamp(frac, 0.0, 1.0) * (std::log(b.upper) - std::log(b.lower)));
+    } else if (bracket.below) {
       ell_start = ell_max;  // r stays above the data even for the stiffest strip
-    } else if (std::isfinite(r_hi)) {
+    } else if (bracket.above) {
       ell_start = ell_min;  // r stays below the data even for the softest strip
     }
     out.params.ktheta[idx(slot)] = ktheta_for_bending_length(ell_start, rho, g);
     if (search_failed) {
       out.fallbacks.push_back(std::string(db::to_string(dir)) + " test (" + k_bending_names[slot] +
                               "): start search failed, the pear loop did not reach equilibrium at bending length " +
-                              numerics::format_number(ell_failed * 1e3) + " mm; started from " +
+                              numerics::format_number(*bracket.failed_at * 1e3) + " mm; started from " +
                               numerics::format_number(ell_start * 1e3) + " mm instead of the data's match");
     }
   }

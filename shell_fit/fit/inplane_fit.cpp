@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include "numerics/roots/bisection.hpp"
 #include "numerics/util/clock.hpp"
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "reports/metrics/error_metrics.hpp"
@@ -123,14 +125,16 @@ SmallStrain small_strain_stiffness(const db::Fabric& fabric) {
   p.kss = std::max((geo - p.kxy) / 2.0, 0.05 * geo);
   if (E[1] > 0.0) {
     // Bias: choose kss so the small-stretch bias modulus of the model matches the data.
+    // The bias modulus grows with kss: 60 halvings in log kss over 1e-4…1e2 of the geometric mean.
     const double s = 1e-3;
-    double lo = 1e-4 * geo, hi = 1e2 * geo;
-    for (int it = 0; it < 60; ++it) {
-      const InplaneParams q{p.kxx, p.kxy, p.kyy, std::sqrt(lo * hi), 0.0, 0.0};
-      const double Eb = uniaxial_point(q, db::pull_angle(db::Direction::bias), s).stress / s;
-      (Eb < E[1] ? lo : hi) = q.kss;
-    }
-    p.kss = std::sqrt(lo * hi);
+    const auto too_soft = [&](double kss) -> std::optional<bool> {
+      const InplaneParams q{p.kxx, p.kxy, p.kyy, kss, 0.0, 0.0};
+      return uniaxial_point(q, db::pull_angle(db::Direction::bias), s).stress / s < E[1];
+    };
+    numerics::BisectionOptions o;
+    o.midpoint = numerics::Midpoint::geometric;
+    o.halvings = 60;
+    p.kss = numerics::bisect(too_soft, 1e-4 * geo, 1e2 * geo, o).x;
   }
   return p;
 }
@@ -392,88 +396,90 @@ InplaneFitResult fit_inplane(const db::Fabric& fabric, const InplaneFitOptions& 
 
 namespace {
 
-InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
-                                  std::vector<InplaneStart> lockup_starts, const std::string& law) {
-  const auto start_time = numerics::Clock::now();
-  InplaneFitResult result;
-  result.model = options.model;
-  if (fabric.stretch_tests.empty()) {
-    result.message = "the fabric has no stretch test";
-    result.errors_reason = result.message;
-    return result;
-  }
+void note_not_identified(InplaneFitResult& result, int i, const std::string& why) {
+  result.not_identified.push_back(std::string(k_inplane_param_names[i]) + ": " + why);
+}
+
+// Which parameters a fit searches (indices into k_inplane_param_names, sorted) and the values
+// of the others (held).
+struct Identification {
+  std::vector<int> free;
+  VecP held;
+};
+
+// The thesis law's six (kxx kxy kyy kss kn1 kn2): free where a test pins them. Without
+// compression the coupling cannot be split: one start, with the small-strain stiffnesses as
+// they are. Sets result.starts and result.start; returns the held values.
+VecP identify_thesis_params(const db::Fabric& fabric, std::vector<int>& free, InplaneFitResult& result) {
   const bool has[3] = {fabric.stretch_tests.count(db::Direction::weft) > 0,
                        fabric.stretch_tests.count(db::Direction::bias) > 0,
                        fabric.stretch_tests.count(db::Direction::warp) > 0};
-  for (const auto& [dir, t] : fabric.stretch_tests) result.compression_measured |= t.curve.has_compression();
-
   result.starts = inplane_starts(fabric);
   result.start = result.starts[0].params;
   VecP held = to_vec(result.start);
-  // Which parameters the tests determine (indices into kxx kxy kyy kss kn1 kn2).
-  std::vector<int> free;
-  auto note = [&](int i, const std::string& why) {
-    result.not_identified.push_back(std::string(k_inplane_param_names[i]) + ": " + why);
-  };
   if (has[0]) free.push_back(0);
-  else note(0, "no weft test (held equal to kyy, isotropic prior)");
+  else note_not_identified(result, 0, "no weft test (held equal to kyy, isotropic prior)");
   if (result.compression_measured) free.push_back(1);
-  else note(1, "no compression measured (held at 0)");
+  else note_not_identified(result, 1, "no compression measured (held at 0)");
   if (has[2]) free.push_back(2);
-  else note(2, "no warp test (held equal to kxx, isotropic prior)");
+  else note_not_identified(result, 2, "no warp test (held equal to kxx, isotropic prior)");
   if (has[1]) free.push_back(3);
-  else note(3, "no bias test (prior (sqrt(k'xx*k'yy) - k'xy)/2 from the small-strain slopes: " +
-                   std::to_string(held[3]) + " N/m)");
+  else note_not_identified(result, 3, "no bias test (prior (sqrt(k'xx*k'yy) - k'xy)/2 from the small-strain slopes: " +
+                                          std::to_string(held[3]) + " N/m)");
   if (result.compression_measured) {
     free.push_back(4);
     free.push_back(5);
   } else {
-    // Without compression the coupling cannot be split: one start, with the small-strain
-    // stiffnesses as they are.
     result.starts.resize(1);
     result.starts[0].name = "small-strain slopes";
     const SmallStrain k = small_strain_stiffness(fabric);
     result.starts[0].params = {k.kxx, 0.0, k.kyy, k.kss, 0.0, 1e-3 * std::sqrt(k.kxx * k.kyy)};
     result.start = result.starts[0].params;
     held = to_vec(result.start);
-    note(4, "no compression measured (held at 0)");
-    note(5, "no compression measured (weak barrier 1e-3*sqrt(kxx*kyy))");
+    note_not_identified(result, 4, "no compression measured (held at 0)");
+    note_not_identified(result, 5, "no compression measured (weak barrier 1e-3*sqrt(kxx*kyy))");
   }
-  if (options.model == InplaneModel::stiffening) {
-    // The lock-up of every tested direction; an untested one has none (held at 0).
-    for (const db::Direction d : {db::Direction::weft, db::Direction::warp, db::Direction::bias}) {
-      const int i = lockup_index(d);
-      if (fabric.stretch_tests.count(d)) {
-        free.push_back(i);
-        free.push_back(i + 1);
-      } else {
-        note(i, "no " + std::string(db::to_string(d)) + " test (no lock-up: held at 0)");
-        note(i + 1, "no " + std::string(db::to_string(d)) + " test (no lock-up)");
-      }
-    }
-    // The lateral shares of the weft and warp lock-up: the width response of a test pins them.
-    for (const db::Direction d : {db::Direction::weft, db::Direction::warp}) {
-      const int share = k_first_share_param + (d == db::Direction::weft ? 0 : 1);
-      if (fabric.stretch_tests.count(d) && result.compression_measured) free.push_back(share);
-      else note(share, fabric.stretch_tests.count(d) ? "no compression measured (held at 0)"
-                                                     : "no " + std::string(db::to_string(d)) + " test (held at 0)");
-    }
-    if (!lockup_starts.empty()) {
-      for (auto& st : lockup_starts) {
-        // Held parameters follow the thesis-model logic above (priors), whatever the start says.
-        VecP v = to_vec(st.params);
-        for (int k = 0; k < k_inplane_param_count; ++k)
-          if (std::find(free.begin(), free.end(), k) == free.end()) v[k] = k >= k_first_lockup_param ? 0.0 : held[k];
-        st.params = from_vec(v);
-      }
-      result.starts = lockup_starts;
-      result.start = result.starts[0].params;
-    }
-  }
-  std::sort(free.begin(), free.end());
-  for (int i : free) result.identified.push_back(k_inplane_param_names[i]);
-  if (options.start_iterations <= 0) result.starts.resize(1);
+  return held;
+}
 
+// The stiffening law's lock-up of every tested direction (an untested one has none: held at
+// 0) and the lateral shares of the weft and warp lock-up, which the width response of a test
+// pins. `lockup_starts`, when given, replace the thesis starts, their held parameters set to
+// the thesis model's priors whatever the start says.
+void identify_lockup_params(const db::Fabric& fabric, std::vector<InplaneStart> lockup_starts, Identification& id,
+                            InplaneFitResult& result) {
+  for (const db::Direction d : {db::Direction::weft, db::Direction::warp, db::Direction::bias}) {
+    const int i = lockup_index(d);
+    if (fabric.stretch_tests.count(d)) {
+      id.free.push_back(i);
+      id.free.push_back(i + 1);
+    } else {
+      note_not_identified(result, i, "no " + std::string(db::to_string(d)) + " test (no lock-up: held at 0)");
+      note_not_identified(result, i + 1, "no " + std::string(db::to_string(d)) + " test (no lock-up)");
+    }
+  }
+  for (const db::Direction d : {db::Direction::weft, db::Direction::warp}) {
+    const int share = k_first_share_param + (d == db::Direction::weft ? 0 : 1);
+    if (fabric.stretch_tests.count(d) && result.compression_measured) id.free.push_back(share);
+    else note_not_identified(result, share, fabric.stretch_tests.count(d)
+                                                ? "no compression measured (held at 0)"
+                                                : "no " + std::string(db::to_string(d)) + " test (held at 0)");
+  }
+  if (lockup_starts.empty()) return;
+  for (auto& st : lockup_starts) {
+    VecP v = to_vec(st.params);
+    for (int k = 0; k < k_inplane_param_count; ++k)
+      if (std::find(id.free.begin(), id.free.end(), k) == id.free.end())
+        v[k] = k >= k_first_lockup_param ? 0.0 : id.held[k];
+    st.params = from_vec(v);
+  }
+  result.starts = lockup_starts;
+  result.start = result.starts[0].params;
+}
+
+// The clamped-stretch scene and the targets (result.directions) of every test.
+std::vector<ClampedStretchScene> stretch_scenes(const db::Fabric& fabric, const InplaneFitOptions& options,
+                                                InplaneFitResult& result) {
   std::vector<ClampedStretchScene> scenes;
   for (const auto& [dir, t] : fabric.stretch_tests) {
     ClampedStretchSetup setup = stretch_setup(t, options.target_edge, options.refinements);
@@ -481,52 +487,62 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     scenes.emplace_back(setup);
     result.directions.push_back(make_direction_targets(t, options.max_line_force));
   }
+  return scenes;
+}
 
-  // Bounds keep the search physical, relative to the data-based axial stiffness scale.
-  const double scale = std::sqrt(held[0] * held[2]);
+// The search space: the map from the slots q to the parameters, and the bounds that keep
+// the search physical, relative to the data-based axial stiffness scale.
+struct SearchSpace {
+  SearchMap map;
+  double scale;
+
+  SearchSpace(const Identification& id, InplaneModel model, const std::vector<DirectionFit>& directions)
+      : map(id.free, id.held, model, reference_strains(directions)), scale(std::sqrt(id.held[0] * id.held[2])) {}
+
   // Reference strain of each lock-up curve (weft, warp, shear): the Green strain at the end of
   // its test's fitted range (a bias pull of Green strain e has |ε3| = e).
-  std::array<double, 3> x_ref{1.0, 1.0, 1.0};
-  for (const auto& d : result.directions) {
-    const double e = 0.5 * ((1.0 + d.max_stretch) * (1.0 + d.max_stretch) - 1.0);
-    x_ref[static_cast<std::size_t>(lockup_index(d.direction) - k_first_lockup_param) / 2] = std::max(e, 1e-3);
+  static std::array<double, 3> reference_strains(const std::vector<DirectionFit>& directions) {
+    std::array<double, 3> x_ref{1.0, 1.0, 1.0};
+    for (const auto& d : directions) {
+      const double e = 0.5 * ((1.0 + d.max_stretch) * (1.0 + d.max_stretch) - 1.0);
+      x_ref[static_cast<std::size_t>(lockup_index(d.direction) - k_first_lockup_param) / 2] = std::max(e, 1e-3);
+    }
+    return x_ref;
   }
-  const SearchMap map(free, held, options.model, x_ref);
-  // Bounds of each slot of `map`: stiffnesses 1e-4…1e4 of the scale (log); the stiffening law's
-  // kxy and a lock-up stress (or an l searched alone) from 0, which is no coupling or no lock-up,
-  // to 1e4 of it; rates 0…k_max_lockup_rate; shares k_min_lockup_share…k_max_lockup_share.
-  const auto q_bounds = [&](std::size_t j) -> std::pair<double, double> {
-    const int k = free[j];
+
+  // Bounds of slot j: stiffnesses 1e-4…1e4 of the scale (log); the stiffening law's kxy and a
+  // lock-up stress (or an l searched alone) from 0, which is no coupling or no lock-up, to 1e4
+  // of it; rates 0…k_max_lockup_rate; shares k_min_lockup_share…k_max_lockup_share.
+  [[nodiscard]] std::pair<double, double> q_bounds(std::size_t j) const {
+    const int k = map.free()[j];
     if (is_lockup_rate(k)) return {0.0, k_max_lockup_rate};
     if (is_lockup_share(k)) return {k_min_lockup_share, k_max_lockup_share};
     if (!map.log_slot(j)) return {0.0, 1e4 * scale};
     return {std::log(1e-4 * scale), std::log(1e4 * scale)};
-  };
+  }
   // The same in the parameters, for the JSON (a lock-up stress slot bounds l by σ_max/g(0)).
-  const auto p_bounds = [&](std::size_t j) -> std::pair<double, double> {
+  [[nodiscard]] std::pair<double, double> p_bounds(std::size_t j) const {
     const auto [lo, hi] = q_bounds(j);
     if (const int c = map.stress_curve(j); c >= 0) return {lo, hi / map.stress_factor(c, 0.0)};
     return map.log_slot(j) ? std::pair{std::exp(lo), std::exp(hi)} : std::pair{lo, hi};
-  };
-  const auto start_q = [&](const InplaneParams& params) {
+  }
+  [[nodiscard]] std::vector<double> start_q(const InplaneParams& params) const {
     std::vector<double> q = map.q_of(to_vec(params));
     for (std::size_t j = 0; j < q.size(); ++j) {
       const auto [lo, hi] = q_bounds(j);
       q[j] = std::clamp(q[j], lo, hi);
     }
     return q;
-  };
-  // One cost function per start: each keeps the warm starts of its own path, so the best
-  // start continues from equilibria near its parameters.
-  std::vector<std::unique_ptr<StretchResiduals>> costs;
-  for (std::size_t k = 0; k < result.starts.size(); ++k)
-    costs.push_back(std::make_unique<StretchResiduals>(scenes, result.directions, map, std::max(1, options.threads),
-                                                       result.simulations));
-  // Displayed error: the root-mean-square normalised residual, in percent.
-  const double n_res = static_cast<double>(costs[0]->num_residuals());
-  ProgressCallback progress(options.progress, start_time,
-                            [n_res](double c) { return 100.0 * std::sqrt(2.0 * c / std::max(n_res, 1.0)); });
-  quiet_solver_warnings();
+  }
+};
+
+// Ceres runs of one fit within its search space.
+struct CeresRuns {
+  const SearchSpace& space;
+  const InplaneFitOptions& options;
+  ProgressCallback& progress;
+  InplaneFitResult& result;  // counts iterations and restarts
+
   // Ceres treats a trial point whose scenes fail as a step of infinite cost and shrinks its
   // trust region faster with every failure in a row; a few in a row make the next step so
   // short that Ceres reports convergence by parameter tolerance where the fit has merely
@@ -534,16 +550,16 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
   // The residuals carry the inner solves' noise (Newton 1e-9 of the force scale, secant 1e-10 in
   // stretch); asking for less change than 1e-9 only burns iterations, and 1e-9 keeps
   // noise-free synthetic data recoverable to 1e-4.
-  const auto solve = [&](StretchResiduals& cost, std::vector<double>& q, int max_iterations,
-                         ceres::Solver::Summary& summary) {
+  void solve(StretchResiduals& cost, std::vector<double>& q, int max_iterations,
+             ceres::Solver::Summary& summary) const {
     for (int restart = 0; restart <= k_max_restarts && max_iterations > 0; ++restart) {
       cost.new_run();
       ceres::Problem::Options po;
       po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
       ceres::Problem problem(po);
       problem.AddResidualBlock(&cost, nullptr, q.data());
-      for (std::size_t j = 0; j < free.size(); ++j) {
-        const auto [lo, hi] = q_bounds(j);
+      for (std::size_t j = 0; j < space.map.size(); ++j) {
+        const auto [lo, hi] = space.q_bounds(j);
         problem.SetParameterLowerBound(q.data(), static_cast<int>(j), lo);
         problem.SetParameterUpperBound(q.data(), static_cast<int>(j), hi);
       }
@@ -557,25 +573,21 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
       if (!(summary.termination_type == ceres::CONVERGENCE && cost.failures_in_a_row() > 0)) break;
       ++result.restarts;
     }
-  };
+  }
 
-  // The stage names the phase and the tests fitted together, e.g. "in-plane, stiffening (weft, warp)".
-  std::string stage = "in-plane" + law + " (";
-  for (std::size_t k = 0; k < result.directions.size(); ++k)
-    stage += (k ? ", " : "") + std::string(db::to_string(result.directions[k].direction));
-  stage += ")";
-
-  // Multi-start: a few iterations from every start, then the best one to convergence.
-  std::vector<double> q = start_q(result.starts[0].params);
-  std::size_t chosen = 0;
-  ceres::Solver::Summary summary;
-  if (result.starts.size() > 1) {
+  // Multi-start: a few iterations from every start (one cost function each, keeping the warm
+  // starts of its own path, so the best start continues from equilibria near its
+  // parameters). Returns the best start; q receives the point it reached.
+  std::size_t best_start(const std::vector<std::unique_ptr<StretchResiduals>>& costs, const std::string& stage,
+                         std::vector<double>& q, ceres::Solver::Summary& summary) const {
+    std::size_t chosen = 0;
+    if (result.starts.size() <= 1) return chosen;
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < result.starts.size(); ++k) {
       auto& st = result.starts[k];
       progress.set_stage(stage + " start " + std::to_string(k + 1) + "/" + std::to_string(result.starts.size()),
                          options.start_iterations);
-      std::vector<double> qk = start_q(st.params);
+      std::vector<double> qk = space.start_q(st.params);
       solve(*costs[k], qk, options.start_iterations, summary);
       st.ok = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
       st.cost = summary.final_cost;
@@ -587,54 +599,70 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
         chosen = k;
       }
     }
+    return chosen;
   }
-  result.chosen_start = static_cast<int>(chosen);
-  StretchResiduals* cost = costs[chosen].get();
-  progress.set_stage(stage, options.max_iterations);
-  solve(*cost, q, options.max_iterations, summary);
+};
 
-  // Re-evaluate at the solution so the reported curves belong to the final parameters.
-  const VecP p = cost->params_from(q.data());
-  std::vector<double> res(static_cast<std::size_t>(cost->num_residuals()));
+// The progress stage names the phase and the tests fitted together, e.g. "in-plane,
+// stiffening (weft, warp)".
+std::string stage_name(const std::string& law, const std::vector<DirectionFit>& directions) {
+  std::string stage = "in-plane" + law + " (";
+  for (std::size_t k = 0; k < directions.size(); ++k)
+    stage += (k ? ", " : "") + std::string(db::to_string(directions[k].direction));
+  return stage + ")";
+}
+
+// Re-evaluates at the solution so the reported curves belong to the final parameters, and
+// records how well the data identify each free parameter: the covariance of q carried to the
+// parameters (first order), sd(p) relative to p, which for a log-space slot is the standard
+// deviation of log p. Returns whether the evaluation succeeded.
+bool evaluate_solution(StretchResiduals& cost, const std::vector<double>& q, const SearchMap& map,
+                       InplaneFitResult& result) {
+  const std::vector<int>& free = map.free();
+  const VecP p = cost.params_from(q.data());
+  std::vector<double> res(static_cast<std::size_t>(cost.num_residuals()));
   const double* blocks[] = {q.data()};
   std::vector<double> jac(res.size() * free.size());
   double* jac_blocks[] = {jac.data()};
-  const bool final_ok = cost->Evaluate(blocks, res.data(), jac_blocks);
-  if (final_ok && !free.empty()) {
-    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
-        jac.data(), static_cast<Eigen::Index>(res.size()), static_cast<Eigen::Index>(free.size()));
-    const Eigen::MatrixXd JtJ = J.transpose() * J;
-    // The covariance of q carried to the parameters (first order): sd(p) relative to p, which for
-    // a log-space slot is the standard deviation of log p.
-    const Eigen::MatrixXd D = map.jacobian(q.data());
-    const Eigen::MatrixXd cov = D * JtJ.completeOrthogonalDecomposition().pseudoInverse() * D.transpose();
-    for (std::size_t j = 0; j < free.size(); ++j) {
-      const auto k = static_cast<Eigen::Index>(free[j]);
-      const double sd = 0.01 * std::sqrt(std::max(cov(k, k), 0.0));
-      const double pk = p[free[j]];
-      const double pct = 100.0 * (pk != 0.0 ? sd / std::abs(pk) : std::numeric_limits<double>::infinity());
-      result.sensitivity_pct[static_cast<std::size_t>(free[j])] = pct;
-      if (!(pct <= k_weak_identification_pct)) result.weakly_identified.push_back(k_inplane_param_names[free[j]]);
-    }
+  const bool final_ok = cost.Evaluate(blocks, res.data(), jac_blocks);
+  if (!final_ok || free.empty()) return final_ok;
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
+      jac.data(), static_cast<Eigen::Index>(res.size()), static_cast<Eigen::Index>(free.size()));
+  const Eigen::MatrixXd JtJ = J.transpose() * J;
+  const Eigen::MatrixXd D = map.jacobian(q.data());
+  const Eigen::MatrixXd cov = D * JtJ.completeOrthogonalDecomposition().pseudoInverse() * D.transpose();
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const auto k = static_cast<Eigen::Index>(free[j]);
+    const double sd = 0.01 * std::sqrt(std::max(cov(k, k), 0.0));
+    const double pk = p[free[j]];
+    const double pct = 100.0 * (pk != 0.0 ? sd / std::abs(pk) : std::numeric_limits<double>::infinity());
+    result.sensitivity_pct[static_cast<std::size_t>(free[j])] = pct;
+    if (!(pct <= k_weak_identification_pct)) result.weakly_identified.push_back(k_inplane_param_names[free[j]]);
   }
-  result.params = from_vec(p);
-  result.converged = summary.IsSolutionUsable() && final_ok &&
-                     summary.termination_type == ceres::CONVERGENCE;
+  return true;
+}
+
+// The fit's parameters, status, bounds and errors at the solution q.
+void record_solution(const StretchResiduals& cost, const std::vector<double>& q, const SearchSpace& space,
+                     const ceres::Solver::Summary& summary, bool final_ok, int max_iterations,
+                     InplaneFitResult& result) {
+  const std::vector<int>& free = space.map.free();
+  result.params = from_vec(cost.params_from(q.data()));
+  result.converged = summary.IsSolutionUsable() && final_ok && summary.termination_type == ceres::CONVERGENCE;
   result.message = final_ok ? summary.BriefReport() : "final evaluation failed: a scene did not reach equilibrium";
   result.hit_iteration_cap = final_ok && summary.termination_type == ceres::NO_CONVERGENCE;
   if (result.hit_iteration_cap)
-    result.message = "stopped at the iteration cap (" + std::to_string(options.max_iterations) +
+    result.message = "stopped at the iteration cap (" + std::to_string(max_iterations) +
                      " iterations) before converging; the errors are those reached: " + result.message;
   for (std::size_t j = 0; j < free.size(); ++j) {
     const int k = free[j];
-    result.bounds[k_inplane_param_names[k]] = p_bounds(j);
-    const auto [lo, hi] = q_bounds(j);
+    result.bounds[k_inplane_param_names[k]] = space.p_bounds(j);
+    const auto [lo, hi] = space.q_bounds(j);
     // 1e-3 of log space is 0.1 %; for a rate, 1e-3 absolute.
     if (q[j] - lo < 1e-3 || hi - q[j] < 1e-3) result.at_bounds.push_back(k_inplane_param_names[k]);
   }
-
   if (final_ok) {
-    result.effects = cost->effects();
+    result.effects = cost.effects();
     reports::ShellErrorSum force, compression;
     for (const auto& d : result.directions) {
       force.add(d.measured_force, d.simulated_force);
@@ -650,6 +678,50 @@ InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOpti
     }
     result.errors_reason = result.message;
   }
+}
+
+InplaneFitResult fit_inplane_from(const db::Fabric& fabric, const InplaneFitOptions& options,
+                                  std::vector<InplaneStart> lockup_starts, const std::string& law) {
+  const auto start_time = numerics::Clock::now();
+  InplaneFitResult result;
+  result.model = options.model;
+  if (fabric.stretch_tests.empty()) {
+    result.message = "the fabric has no stretch test";
+    result.errors_reason = result.message;
+    return result;
+  }
+  for (const auto& [dir, t] : fabric.stretch_tests) result.compression_measured |= t.curve.has_compression();
+  Identification id;
+  id.held = identify_thesis_params(fabric, id.free, result);
+  if (options.model == InplaneModel::stiffening) identify_lockup_params(fabric, std::move(lockup_starts), id, result);
+  std::sort(id.free.begin(), id.free.end());
+  for (int i : id.free) result.identified.push_back(k_inplane_param_names[i]);
+  if (options.start_iterations <= 0) result.starts.resize(1);
+
+  std::vector<ClampedStretchScene> scenes = stretch_scenes(fabric, options, result);
+  const SearchSpace space(id, options.model, result.directions);
+  std::vector<std::unique_ptr<StretchResiduals>> costs;
+  for (std::size_t k = 0; k < result.starts.size(); ++k)
+    costs.push_back(std::make_unique<StretchResiduals>(scenes, result.directions, space.map,
+                                                       std::max(1, options.threads), result.simulations));
+  // Displayed error: the root-mean-square normalised residual, in percent.
+  const double n_res = static_cast<double>(costs[0]->num_residuals());
+  ProgressCallback progress(options.progress, start_time,
+                            [n_res](double c) { return 100.0 * std::sqrt(2.0 * c / std::max(n_res, 1.0)); });
+  quiet_solver_warnings();
+  const CeresRuns runs{space, options, progress, result};
+  const std::string stage = stage_name(law, result.directions);
+
+  // A few iterations from every start, then the best one to convergence.
+  std::vector<double> q = space.start_q(result.starts[0].params);
+  ceres::Solver::Summary summary;
+  const std::size_t chosen = runs.best_start(costs, stage, q, summary);
+  result.chosen_start = static_cast<int>(chosen);
+  StretchResiduals& cost = *costs[chosen];
+  progress.set_stage(stage, options.max_iterations);
+  runs.solve(cost, q, options.max_iterations, summary);
+  const bool final_ok = evaluate_solution(cost, q, space.map, result);
+  record_solution(cost, q, space, summary, final_ok, options.max_iterations, result);
   result.seconds = numerics::seconds_since(start_time);
   return result;
 }

@@ -76,10 +76,7 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
   for (int v : m_left) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
   for (int v : m_right) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
   // The free/clamped split depends only on the mesh; the sensitivities reuse it at every target.
-  m_free_index.assign(static_cast<std::size_t>(k_dim * m_mesh.vertex_count()), 0);
-  for (int d : m_fixed_dofs) m_free_index[static_cast<std::size_t>(d)] = -1;
-  for (int& f : m_free_index)
-    if (f == 0) f = m_free_count++;
+  m_free_index = free_dof_index(k_dim * m_mesh.vertex_count(), m_fixed_dofs, m_free_count);
 
   const double mid = 0.5 * setup.length;
   if (setup.gauge_length) {
@@ -106,45 +103,73 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
   }
 }
 
-ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const std::vector<double>& targets,
-                                           bool with_sensitivities, ClampedStretchWarmStart* warm) const {
-  const auto start = numerics::Clock::now();
-  ClampedStretchRun out;
-  const MembraneTerm membrane(m_mesh, params, k_dim);
-  const TermList terms{&membrane};
-  out.effects = numerics::term_names(terms);
-  const int n = k_dim * m_mesh.vertex_count();
+namespace {
 
-  Eigen::VectorXd x(n);
-  for (int v = 0; v < m_mesh.vertex_count(); ++v) x.segment<2>(k_dim * v) = m_mesh.rest.row(v).transpose();
-  const Eigen::VectorXd rest = x;
+// Newton settings of one load step. A healthy load step converges in a handful of iterations
+// from the affine prediction; one that needs dozens is in trouble (a fit's trial point near
+// inversion) and should fail fast so the optimiser can step back, instead of grinding.
+NewtonOptions load_step_options(const InplaneParams& params, double width) {
+  NewtonOptions options;
+  options.max_iterations = 40;
+  // Residual forces below 1e-9 of the force a unit strain would need are numerical noise.
+  const double force_scale = std::max({params.kxx, params.kyy, params.kxy, params.kss, 1e-12}) * width;
+  options.tolerance = 1e-9 * force_scale;
+  return options;
+}
+
+// Sizes the warm start for `count` targets, emptying it when it was kept for another count.
+void size_warm_start(ClampedStretchWarmStart& warm, std::size_t count) {
+  if (warm.targets.size() == count) return;
+  warm.targets.assign(count, std::nan(""));
+  warm.clamp_stretch.assign(count, 0.0);
+  warm.slope.assign(count, 0.0);
+  warm.states.assign(count, Eigen::VectorXd());
+}
+
+}  // namespace
+
+// One run's equilibria: the state x at clamp stretch u_prev (the last equilibrium), moved
+// along the clamp stretch by solves warm-started from it; the counts and the failure go to
+// `out`.
+struct ClampedStretchScene::RunSolver {
+  RunSolver(const ClampedStretchScene& of, const MembraneTerm& term, ClampedStretchRun& run,
+            const NewtonOptions& load_step)
+      : scene(of), membrane(term), terms{&term}, out(run), options(load_step), n(k_dim * of.m_mesh.vertex_count()),
+        x(n) {
+    for (int v = 0; v < scene.m_mesh.vertex_count(); ++v)
+      x.segment<2>(k_dim * v) = scene.m_mesh.rest.row(v).transpose();
+    rest = x;
+  }
+
+  const ClampedStretchScene& scene;
+  const MembraneTerm& membrane;
+  const TermList terms;
+  ClampedStretchRun& out;
+  const NewtonOptions options;
+  const int n;
+  Eigen::VectorXd x, rest;
   double u_prev = 0.0;
 
   // Places the right clamp at stretch u, predicting the interior by stretching the last
   // solution's x-coordinates affinely.
-  auto set_clamp = [&](double u, Eigen::VectorXd& state) {
+  void set_clamp(double u, Eigen::VectorXd& state) const {
     const double scale = (1.0 + u) / (1.0 + u_prev);
-    for (int v = 0; v < m_mesh.vertex_count(); ++v) state[k_dim * v] *= scale;
-    for (int v : m_left) state.segment<2>(k_dim * v) = rest.segment<2>(k_dim * v);
-    for (int v : m_right) {
-      state[k_dim * v] = m_setup.length * (1.0 + u);
+    for (int v = 0; v < scene.m_mesh.vertex_count(); ++v) state[k_dim * v] *= scale;
+    for (int v : scene.m_left) state.segment<2>(k_dim * v) = rest.segment<2>(k_dim * v);
+    for (int v : scene.m_right) {
+      state[k_dim * v] = scene.m_setup.length * (1.0 + u);
       state[k_dim * v + 1] = rest[k_dim * v + 1];
     }
-  };
-  // A healthy load step converges in a handful of iterations from the affine prediction; one
-  // that needs dozens is in trouble (a fit's trial point near inversion) and should fail fast
-  // so the optimiser can step back, instead of grinding.
-  NewtonOptions options;
-  options.max_iterations = 40;
-  // Residual forces below 1e-9 of the force a unit strain would need are numerical noise.
-  const double force_scale = std::max({params.kxx, params.kyy, params.kxy, params.kss, 1e-12}) * m_setup.width;
-  options.tolerance = 1e-9 * force_scale;
+  }
 
-  auto solve_at = [&](double u) -> bool {
+  // The equilibrium at clamp stretch u from the affine prediction, or failing that by load
+  // steps from the last one; false (out.message says why) when it fails or the Newton budget
+  // is spent.
+  bool solve_at(double u) {
     Eigen::VectorXd trial = x;
     set_clamp(u, trial);
     NewtonSummary s;
-    if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, m_fixed_dofs, options);
+    if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, scene.m_fixed_dofs, options);
     if (!s.converged()) {
       out.newton_iterations += s.iterations;
       // Walk there from the last good state in load steps.
@@ -154,10 +179,10 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       copt.newton = options;
       copt.newton.max_iterations = 25;
       copt.min_step = 1.0 / 64.0;
-      s = solve_continuation(terms, trial, m_fixed_dofs,
+      s = solve_continuation(terms, trial, scene.m_fixed_dofs,
                              [&](double lambda, Eigen::VectorXd& state) {
                                const double target = u0 + lambda * (u - u0);
-                               for (int v : m_right) state[k_dim * v] = m_setup.length * (1.0 + target);
+                               for (int v : scene.m_right) state[k_dim * v] = scene.m_setup.length * (1.0 + target);
                              },
                              copt);
     }
@@ -167,32 +192,186 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       out.message = "equilibrium at clamp stretch " + std::to_string(u) + " failed: " + s.brief();
       return false;
     }
-    if (m_setup.max_newton_iterations > 0 && out.newton_iterations > m_setup.max_newton_iterations) {
-      out.message = "Newton iteration budget of " + std::to_string(m_setup.max_newton_iterations) + " spent";
+    if (scene.m_setup.max_newton_iterations > 0 && out.newton_iterations > scene.m_setup.max_newton_iterations) {
+      out.message = "Newton iteration budget of " + std::to_string(scene.m_setup.max_newton_iterations) + " spent";
       return false;
     }
     x = trial;
     u_prev = u;
     return true;
-  };
-  auto measured = [&](const Eigen::VectorXd& state, Eigen::VectorXd* grad) {
-    if (m_stretch_from_clamps) {
+  }
+
+  // The warm state of an earlier run at clamp stretch u, if it converges within `budget`.
+  bool solve_from(const Eigen::VectorXd& state, double u, const NewtonOptions& budget) {
+    Eigen::VectorXd trial = state;
+    NewtonSummary s;
+    if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, scene.m_fixed_dofs, budget);
+    ++out.newton_solves;
+    out.newton_iterations += s.iterations;
+    if (!s.converged()) return false;
+    x = trial;
+    u_prev = u;
+    return true;
+  }
+
+  // The measured stretch of `state` (gauge marks, or the clamps), and its gradient.
+  double measured(const Eigen::VectorXd& state, Eigen::VectorXd* grad) const {
+    if (scene.m_stretch_from_clamps) {
       if (grad) grad->setZero(n);
-      return state[k_dim * m_right[0]] / m_setup.length - 1.0;
+      return state[k_dim * scene.m_right[0]] / scene.m_setup.length - 1.0;
     }
-    return distance(m_len_a, m_len_b, state, grad) / m_rest_len - 1.0;
+    return distance(scene.m_len_a, scene.m_len_b, state, grad) / scene.m_rest_len - 1.0;
+  }
+
+  // Clamp stretch u with measured(u) = target: exact without gauge marks; with them the
+  // gauge stretch grows with the clamp stretch, and the root finder (numerics/roots) solves
+  // measured(u) = target from the warm start's u, each evaluation an equilibrium warm-started
+  // from the last. Its first step uses the slope the warm start remembers, and `slope`
+  // receives the secant of its last two solves. `solved`: x is already the equilibrium at u.
+  bool reach(double target, bool solved, double& u, double& slope) {
+    if (scene.m_stretch_from_clamps) {
+      if (!solved) {
+        u = target;
+        if (!solve_at(u)) return false;
+      }
+      slope = 1.0;
+      return true;
+    }
+    if (!solved) u = u_prev + (target - measured(x, nullptr));
+    double u_last = std::nan(""), m_last = std::nan(""), u_before = std::nan(""), m_before = std::nan("");
+    numerics::RootFindOptions ro;
+    ro.lower = -0.5;  // the clamps never pass half the free length's compression
+    ro.upper = 10.0;
+    ro.initial_step = 1e-3 * (1.0 + std::abs(u));
+    ro.initial_slope = slope > 0.0 ? slope : 0.0;
+    ro.x_tolerance = 1e-13;
+    ro.f_tolerance = 1e-10 * (1.0 + std::abs(target));
+    ro.max_evaluations = 31;
+    const numerics::RootResult root = numerics::find_root(
+        [&](double uu) -> std::optional<double> {
+          // The state is already the equilibrium at u_prev (a warm or earlier solve).
+          if (!(solved && uu == u_prev) && !solve_at(uu)) return std::nullopt;
+          solved = true;
+          u_before = u_last;
+          m_before = m_last;
+          u_last = uu;
+          m_last = measured(x, nullptr);
+          return m_last - target;
+        },
+        u, ro);
+    if (root.status == numerics::RootStatus::evaluation_failed) return false;  // solve_at said why
+    // The secant of the last two solves: the next run's first step.
+    if (std::isfinite(u_before) && std::abs(u_last - u_before) > 1e-7 * (1.0 + std::abs(u_last))) {
+      const double secant = (m_last - m_before) / (u_last - u_before);
+      if (secant > 0.0) slope = secant;
+    }
+    u = u_prev;
+    if (!(std::abs(measured(x, nullptr) - target) <= 1e-6 * (1.0 + std::abs(target)))) {
+      out.message = "gauge stretch " + std::to_string(target) + " not reached (clamp stretch " + std::to_string(u) +
+                    ", " + numerics::to_string(root.status) + " after " + std::to_string(root.evaluations) +
+                    " solves)";
+      return false;
+    }
+    return true;
+  }
+
+  // Force, measured stretch, compression and residual of the equilibrium x at clamp stretch u;
+  // `dwidth` receives the gradient of the measured width.
+  ClampedStretchSample sample_at(double u, Eigen::VectorXd& dwidth) const {
+    ClampedStretchSample sample;
+    sample.clamp_stretch = u;
+    sample.measured_stretch = measured(x, nullptr);
+    const Eigen::VectorXd g = total_gradient(terms, x);
+    for (int v : scene.m_right) sample.force += g[k_dim * v];
+    for (int d = 0; d < n; ++d)
+      if (scene.m_free_index[static_cast<std::size_t>(d)] >= 0)
+        sample.residual = std::max(sample.residual, std::abs(g[d]));
+    dwidth.resize(n);
+    const double w = distance(scene.m_wid_a, scene.m_wid_b, x, &dwidth);
+    sample.compression = 1.0 - w / scene.m_rest_wid;
+    return sample;
+  }
+
+  static constexpr int np = k_inplane_param_count;
+
+  // The equilibrium's derivatives by the implicit function theorem: the true (unprojected)
+  // Hessian H, ∂g/∂p (G, n × np) and the full-length dx/dp_k and dx/du (dx, n × (np + 1);
+  // fixed DOFs: 0 for p, ∂x_c/∂u for u).
+  struct Derivatives {
+    Eigen::SparseMatrix<double> H;
+    Eigen::MatrixXd G, dx;
   };
 
+  std::optional<Derivatives> derivatives() const {
+    const std::vector<int>& free_index = scene.m_free_index;
+    const int nf = scene.m_free_count;
+    Derivatives out_d;
+    const Eigen::SparseMatrix<double>& H = out_d.H = total_hessian(terms, x, false);
+    Eigen::VectorXd hfc_du = Eigen::VectorXd::Zero(nf);  // H_fc · ∂x_c/∂u
+    Eigen::VectorXd dxc_du = Eigen::VectorXd::Zero(n);
+    for (int v : scene.m_right) dxc_du[k_dim * v] = scene.m_setup.length;
+    Eigen::VectorXd hxc_du = H * dxc_du;  // full-length product, rows split below
+    for (int d = 0; d < n; ++d)
+      if (free_index[static_cast<std::size_t>(d)] >= 0) hfc_du[free_index[static_cast<std::size_t>(d)]] = hxc_du[d];
+    const Eigen::SparseMatrix<double> Hff = free_block(H, free_index, nf);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Hff);
+    if (ldlt.info() != Eigen::Success) return std::nullopt;
+    Eigen::MatrixXd& G = out_d.G = Eigen::MatrixXd::Zero(n, np);
+    membrane.add_gradient_per_parameter(x, G);
+    Eigen::MatrixXd rhs(nf, np + 1);
+    for (int d = 0; d < n; ++d) {
+      const int f = free_index[static_cast<std::size_t>(d)];
+      if (f < 0) continue;
+      rhs.block<1, np>(f, 0) = -G.row(d);
+    }
+    rhs.col(np) = -hfc_du;
+    const Eigen::MatrixXd sol = ldlt.solve(rhs);  // columns: dx_f/dp_k (k < np), dx_f/du
+    Eigen::MatrixXd& dx = out_d.dx;
+    dx.resize(n, np + 1);
+    dx.setZero();
+    for (int d = 0; d < n; ++d) {
+      const int f = free_index[static_cast<std::size_t>(d)];
+      if (f >= 0) dx.row(d) = sol.row(f);
+    }
+    dx.col(np) += dxc_du;
+    return out_d;
+  }
+
+  // d(force)/dp and d(compression)/dp at fixed measured stretch; `slope` receives dm/du.
+  void add_sensitivities(const Derivatives& dv, const Eigen::VectorXd& dwidth, ClampedStretchSample& sample,
+                         double& slope) const {
+    // Force = Σ_right g_x: dF = ∂g/∂p + H dx (rows of the right clamp's x DOFs).
+    const Eigen::MatrixXd Hdx = dv.H * dv.dx;
+    Eigen::Matrix<double, np + 1, 1> dF = Eigen::Matrix<double, np + 1, 1>::Zero();
+    for (int v : scene.m_right) {
+      dF += Hdx.row(k_dim * v).transpose();
+      dF.head<np>() += dv.G.row(k_dim * v).transpose();
+    }
+    Eigen::VectorXd dmeasured(n);
+    measured(x, &dmeasured);
+    const Eigen::Matrix<double, np + 1, 1> dm = dv.dx.transpose() * dmeasured;
+    const Eigen::Matrix<double, np + 1, 1> dc = -(dv.dx.transpose() * dwidth) / scene.m_rest_wid;
+    // Hold the measured stretch: u moves with p unless the stretch is read at the clamps.
+    ClampedStretchSample::ParameterVector du_dp = ClampedStretchSample::ParameterVector::Zero();
+    if (!scene.m_stretch_from_clamps) du_dp = -dm.head<np>() / dm[np];
+    sample.dforce_dp = dF.head<np>() + dF[np] * du_dp;
+    sample.dcompression_dp = dc.head<np>() + dc[np] * du_dp;
+    if (dm[np] > 0.0) slope = dm[np];
+  }
+};
+
+ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const std::vector<double>& targets,
+                                           bool with_sensitivities, ClampedStretchWarmStart* warm) const {
+  const auto start = numerics::Clock::now();
+  ClampedStretchRun out;
+  const MembraneTerm membrane(m_mesh, params, k_dim);
+  RunSolver solver(*this, membrane, out, load_step_options(params, m_setup.width));
+  out.effects = numerics::term_names(solver.terms);
   // A warm state's solve that needs more than this is not worth finishing: the target is then
   // solved from the previous target's state instead.
-  NewtonOptions warm_options = options;
+  NewtonOptions warm_options = solver.options;
   warm_options.max_iterations = 20;
-  if (warm && warm->targets.size() != targets.size()) {
-    warm->targets.assign(targets.size(), std::nan(""));
-    warm->clamp_stretch.assign(targets.size(), 0.0);
-    warm->slope.assign(targets.size(), 0.0);
-    warm->states.assign(targets.size(), Eigen::VectorXd());
-  }
+  if (warm) size_warm_start(*warm, targets.size());
 
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const double target = targets[i];
@@ -203,144 +382,23 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       return out;
     }
     const bool have_warm = warm && std::abs(warm->targets[i] - target) <= 1e-12 * (1.0 + std::abs(target)) &&
-                           warm->states[i].size() == n;
+                           warm->states[i].size() == solver.n;
     double slope = have_warm ? warm->slope[i] : 0.0;  // dm/du, 0 while unknown
-    bool solved = false;
     double u = 0.0;
-    if (have_warm) {
-      Eigen::VectorXd trial = warm->states[i];
-      NewtonSummary s;
-      if (std::isfinite(total_energy(terms, trial))) s = solve_static(terms, trial, m_fixed_dofs, warm_options);
-      ++out.newton_solves;
-      out.newton_iterations += s.iterations;
-      if (s.converged()) {
-        x = trial;
-        u = u_prev = warm->clamp_stretch[i];
-        solved = true;
-      }
-    }
-    // Clamp stretch u with measured(u) = target: exact without gauge marks; with them the
-    // gauge stretch grows with the clamp stretch, and the root finder (numerics/roots)
-    // solves measured(u) = target from the warm start's u, each evaluation an equilibrium
-    // warm-started from the last. Its first step uses the slope the warm start remembers.
-    if (m_stretch_from_clamps) {
-      if (!solved) {
-        u = target;
-        if (!solve_at(u)) return out;
-      }
-      slope = 1.0;
-    } else {
-      if (!solved) u = u_prev + (target - measured(x, nullptr));
-      double u_last = std::nan(""), m_last = std::nan(""), u_before = std::nan(""), m_before = std::nan("");
-      numerics::RootFindOptions ro;
-      ro.lower = -0.5;  // the clamps never pass half the free length's compression
-      ro.upper = 10.0;
-      ro.initial_step = 1e-3 * (1.0 + std::abs(u));
-      ro.initial_slope = slope > 0.0 ? slope : 0.0;
-      ro.x_tolerance = 1e-13;
-      ro.f_tolerance = 1e-10 * (1.0 + std::abs(target));
-      ro.max_evaluations = 31;
-      const numerics::RootResult root = numerics::find_root(
-          [&](double uu) -> std::optional<double> {
-            // The state is already the equilibrium at u_prev (a warm or earlier solve).
-            if (!(solved && uu == u_prev) && !solve_at(uu)) return std::nullopt;
-            solved = true;
-            u_before = u_last;
-            m_before = m_last;
-            u_last = uu;
-            m_last = measured(x, nullptr);
-            return m_last - target;
-          },
-          u, ro);
-      if (root.status == numerics::RootStatus::evaluation_failed) return out;  // solve_at said why
-      // The secant of the last two solves: the next run's first step.
-      if (std::isfinite(u_before) && std::abs(u_last - u_before) > 1e-7 * (1.0 + std::abs(u_last))) {
-        const double secant = (m_last - m_before) / (u_last - u_before);
-        if (secant > 0.0) slope = secant;
-      }
-      u = u_prev;
-      if (!(std::abs(measured(x, nullptr) - target) <= 1e-6 * (1.0 + std::abs(target)))) {
-        out.message = "gauge stretch " + std::to_string(target) + " not reached (clamp stretch " + std::to_string(u) +
-                      ", " + numerics::to_string(root.status) + " after " + std::to_string(root.evaluations) +
-                      " solves)";
-        return out;
-      }
-    }
+    const bool solved = have_warm && solver.solve_from(warm->states[i], warm->clamp_stretch[i], warm_options);
+    if (solved) u = warm->clamp_stretch[i];
+    if (!solver.reach(target, solved, u, slope)) return out;
 
-    ClampedStretchSample sample;
-    sample.clamp_stretch = u;
-    sample.measured_stretch = measured(x, nullptr);
-    const Eigen::VectorXd g = total_gradient(terms, x);
-    for (int v : m_right) sample.force += g[k_dim * v];
-    for (int d = 0; d < n; ++d)
-      if (m_free_index[static_cast<std::size_t>(d)] >= 0) sample.residual = std::max(sample.residual, std::abs(g[d]));
+    Eigen::VectorXd dwidth;
+    ClampedStretchSample sample = solver.sample_at(u, dwidth);
     sample.newton_iterations = out.newton_iterations - iterations_before;
-    Eigen::VectorXd dwidth(n);
-    const double w = distance(m_wid_a, m_wid_b, x, &dwidth);
-    sample.compression = 1.0 - w / m_rest_wid;
-
     if (with_sensitivities) {
-      // Free / fixed split of the true (unprojected) Hessian at equilibrium.
-      const std::vector<int>& free_index = m_free_index;
-      const int nf = m_free_count;
-      const Eigen::SparseMatrix<double> H = total_hessian(terms, x, false);
-      std::vector<Eigen::Triplet<double>> ff;
-      Eigen::VectorXd hfc_du = Eigen::VectorXd::Zero(nf);  // H_fc · ∂x_c/∂u
-      Eigen::VectorXd dxc_du = Eigen::VectorXd::Zero(n);
-      for (int v : m_right) dxc_du[k_dim * v] = m_setup.length;
-      Eigen::VectorXd hxc_du = H * dxc_du;  // full-length product, rows split below
-      for (int k = 0; k < H.outerSize(); ++k) {
-        for (Eigen::SparseMatrix<double>::InnerIterator it(H, k); it; ++it) {
-          const int fr = free_index[static_cast<std::size_t>(it.row())];
-          const int fc = free_index[static_cast<std::size_t>(it.col())];
-          if (fr >= 0 && fc >= 0) ff.emplace_back(fr, fc, it.value());
-        }
-      }
-      for (int d = 0; d < n; ++d)
-        if (free_index[static_cast<std::size_t>(d)] >= 0) hfc_du[free_index[static_cast<std::size_t>(d)]] = hxc_du[d];
-      Eigen::SparseMatrix<double> Hff(nf, nf);
-      Hff.setFromTriplets(ff.begin(), ff.end());
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Hff);
-      if (ldlt.info() != Eigen::Success) {
+      const std::optional<RunSolver::Derivatives> dv = solver.derivatives();
+      if (!dv) {
         out.message = "sensitivities: the equilibrium Hessian could not be factorised";
         return out;
       }
-      constexpr int np = k_inplane_param_count;
-      Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, np);
-      membrane.add_gradient_per_parameter(x, G);
-      Eigen::MatrixXd rhs(nf, np + 1);
-      for (int d = 0; d < n; ++d) {
-        const int f = free_index[static_cast<std::size_t>(d)];
-        if (f < 0) continue;
-        rhs.block<1, np>(f, 0) = -G.row(d);
-      }
-      rhs.col(np) = -hfc_du;
-      const Eigen::MatrixXd sol = ldlt.solve(rhs);  // columns: dx_f/dp_k (k < np), dx_f/du
-      // Full-length dx/dp and dx/du (fixed DOFs: 0 for p, ∂x_c/∂u for u).
-      Eigen::MatrixXd dx(n, np + 1);
-      dx.setZero();
-      for (int d = 0; d < n; ++d) {
-        const int f = free_index[static_cast<std::size_t>(d)];
-        if (f >= 0) dx.row(d) = sol.row(f);
-      }
-      dx.col(np) += dxc_du;
-      // Force = Σ_right g_x: dF = ∂g/∂p + H dx (rows of the right clamp's x DOFs).
-      const Eigen::MatrixXd Hdx = H * dx;
-      Eigen::Matrix<double, np + 1, 1> dF = Eigen::Matrix<double, np + 1, 1>::Zero();
-      for (int v : m_right) {
-        dF += Hdx.row(k_dim * v).transpose();
-        dF.head<np>() += G.row(k_dim * v).transpose();
-      }
-      Eigen::VectorXd dmeasured(n);
-      measured(x, &dmeasured);
-      const Eigen::Matrix<double, np + 1, 1> dm = dx.transpose() * dmeasured;
-      const Eigen::Matrix<double, np + 1, 1> dc = -(dx.transpose() * dwidth) / m_rest_wid;
-      // Hold the measured stretch: u moves with p unless the stretch is read at the clamps.
-      ClampedStretchSample::ParameterVector du_dp = ClampedStretchSample::ParameterVector::Zero();
-      if (!m_stretch_from_clamps) du_dp = -dm.head<np>() / dm[np];
-      sample.dforce_dp = dF.head<np>() + dF[np] * du_dp;
-      sample.dcompression_dp = dc.head<np>() + dc[np] * du_dp;
-      if (dm[np] > 0.0) slope = dm[np];
+      solver.add_sensitivities(*dv, dwidth, sample, slope);
     }
     sample.seconds = numerics::seconds_since(target_start);
     out.samples.push_back(sample);
@@ -348,7 +406,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
       warm->targets[i] = target;
       warm->clamp_stretch[i] = u;
       warm->slope[i] = slope;
-      warm->states[i] = x;
+      warm->states[i] = solver.x;
     }
   }
   out.ok = true;

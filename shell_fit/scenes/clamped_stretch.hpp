@@ -98,6 +98,8 @@ class ClampedStretchScene {
   [[nodiscard]] int vertex_count() const { return m_mesh.vertex_count(); }
 
  private:
+  struct RunSolver;  // one run's equilibria along the clamp stretch (clamped_stretch.cpp)
+
   ClampedStretchSetup m_setup;
   ShellMesh m_mesh;
   std::vector<int> m_left, m_right;  // clamped vertices

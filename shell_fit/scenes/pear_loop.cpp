@@ -77,6 +77,20 @@ double parabolic_extreme(const std::vector<double>& f, double sign,
   return f[idx(best)];
 }
 
+// x and z of the centre line's vertices (by rest x) in the state x.
+struct CentreLine {
+  std::vector<double> x, z;
+};
+
+CentreLine centre_line_of(const Eigen::VectorXd& x, const std::vector<int>& vertices) {
+  CentreLine out;
+  for (int v : vertices) {
+    out.x.push_back(x[k_dim * v]);
+    out.z.push_back(x[k_dim * v + 2]);
+  }
+  return out;
+}
+
 }  // namespace
 
 double bending_stiffness_per_width(double ktheta_effective) { return k_bending_factor * ktheta_effective; }
@@ -197,17 +211,170 @@ Eigen::VectorXd PearLoopScene::initial_state(double clamp_distance) const {
 }
 
 PearLoopScene::Shape PearLoopScene::measure(const Eigen::VectorXd& x) const {
-  std::vector<double> xs, zs;
-  for (int v : m_centre_line) {
-    xs.push_back(x[k_dim * v]);
-    zs.push_back(x[k_dim * v + 2]);
-  }
+  const CentreLine line = centre_line_of(x, m_centre_line);
   std::vector<std::pair<int, double>> w;
   Shape s;
-  s.height = -parabolic_extreme(zs, 1.0, w);
-  s.width = parabolic_extreme(xs, -1.0, w) - parabolic_extreme(xs, 1.0, w);
+  s.height = -parabolic_extreme(line.z, 1.0, w);
+  s.width = parabolic_extreme(line.x, -1.0, w) - parabolic_extreme(line.x, 1.0, w);
   return s;
 }
+
+namespace {
+
+// The loop's Newton settings. Exact Hessian with the Levenberg shift as the safeguard: the
+// per-element projection (project_psd) drops the θ∇²θ part of the bending Hessian, which is
+// what turns the strip, and Newton then converges linearly (100+ iterations where the exact
+// Hessian needs 5–30). The projection is kept as a fallback (robust) for starts far from
+// equilibrium.
+struct LoopNewton {
+  NewtonOptions exact, robust;
+};
+
+LoopNewton loop_newton(const PearLoopSetup& setup, const BendingParams& bending) {
+  LoopNewton out;
+  NewtonOptions& options = out.exact;
+  options.max_iterations = 100;
+  options.project_psd = false;
+  // Copied before the tolerance below: the projected solve, which the exact one always
+  // follows, stops at NewtonOptions' default tolerance.
+  out.robust = options;
+  out.robust.project_psd = true;
+  out.robust.max_iterations = 300;
+  // Residual forces below 1e-8 of the loop's force scale are numerical noise: its weight
+  // ρ g L W plus the force B W/L² that bends it to a radius of its length.
+  const double L = setup.length, W = setup.width;
+  const double k_max = std::max({bending.ktheta[0], bending.ktheta[1], bending.ktheta[2], 0.0});
+  const double force_scale =
+      setup.areal_density * setup.gravity * L * W + bending_stiffness_per_width(k_max) * W / (L * L);
+  options.tolerance = 1e-8 * std::max(force_scale, 1e-300);
+  return out;
+}
+
+// The slot of warm's state for clamp distance d (warm->clamp_distance.size() when it has
+// none, 0 without a warm start): a state of n DOFs at a distance within 1e-12 · length of d.
+std::size_t warm_slot(const PearLoopWarmStart* warm, double d, double length, int n) {
+  std::size_t slot = warm ? warm->clamp_distance.size() : 0;
+  if (warm) {
+    for (std::size_t i = 0; i < warm->clamp_distance.size(); ++i)
+      if (std::abs(warm->clamp_distance[i] - d) <= 1e-12 * length && warm->states[i].size() == n) slot = i;
+  }
+  return slot;
+}
+
+// Stores the equilibrium x at d in its slot (a new one past the end).
+void keep_warm(PearLoopWarmStart& warm, std::size_t slot, double d, const Eigen::VectorXd& x) {
+  if (slot < warm.clamp_distance.size()) {
+    warm.states[slot] = x;
+  } else {
+    warm.clamp_distance.push_back(d);
+    warm.states.push_back(x);
+  }
+}
+
+// The equilibrium at sample.clamp_distance: from the warm state when there is one and it
+// converges, else from the start loop x: exact Hessian, then the projected one, then exact
+// again from where the projected solve stopped (it converges fast once near the equilibrium).
+// x receives the last valid iterate; the sample its convergence, residual and failure, and the
+// counts go to both. Returns whether it converged.
+bool solve_loop(const TermList& terms, const std::vector<int>& fixed_dofs, const LoopNewton& newton,
+                const Eigen::VectorXd* warm_state, Eigen::VectorXd& x, PearLoopSample& sample, PearLoopRun& out) {
+  NewtonSummary summary;
+  bool solved = false;
+  const auto count = [&](const NewtonSummary& s) {
+    ++out.newton_solves;
+    out.newton_iterations += s.iterations;
+    sample.newton_iterations += s.iterations;
+  };
+  if (warm_state) {
+    Eigen::VectorXd trial = *warm_state;
+    summary = solve_static(terms, trial, fixed_dofs, newton.exact);
+    count(summary);
+    if (summary.converged()) {
+      x = trial;
+      solved = true;
+    }
+  }
+  const Eigen::VectorXd start_state = x;
+  for (int attempt = 0; attempt < 3 && !solved; ++attempt) {
+    Eigen::VectorXd trial = attempt == 1 ? start_state : x;
+    summary = solve_static(terms, trial, fixed_dofs, attempt == 1 ? newton.robust : newton.exact);
+    count(summary);
+    if (summary.status != NewtonStatus::invalid_start) x = trial;
+    solved = summary.converged();
+  }
+  sample.converged = solved;
+  sample.residual = summary.residual;
+  if (!solved)
+    sample.message = "equilibrium at clamp distance " + std::to_string(sample.clamp_distance) +
+                     " m failed: " + summary.brief();
+  return solved;
+}
+
+// The loop's height, width, aspect ratio and largest curvature across the strip at x; a loop
+// of no width is not converged.
+void read_shape(const PearLoopScene::Shape& shape, const BendingTerm& bending, const std::vector<int>& across_edges,
+                const Eigen::VectorXd& x, PearLoopSample& sample) {
+  for (int e : across_edges) sample.max_curvature = std::max(sample.max_curvature, std::abs(bending.curvature(x, e)));
+  sample.height = shape.height;
+  sample.width = shape.width;
+  sample.aspect_ratio = shape.width > 0.0 ? shape.height / shape.width : 0.0;
+  if (!(std::isfinite(sample.aspect_ratio) && shape.width > 0.0)) {
+    sample.converged = false;
+    sample.aspect_ratio = 0.0;
+    if (sample.message.empty()) sample.message = "degenerate loop (zero width)";
+  }
+}
+
+struct LoopSensitivityInputs {
+  const TermList& terms;
+  const BendingTerm& bending;
+  const std::vector<int>& free_index;  // free_dof_index of the scene
+  int free_count;
+  const std::vector<int>& centre_line;
+};
+
+// dr/dk_θ at the equilibrium x by the implicit function theorem: H_ff dx_f/dk = −∂g_f/∂k,
+// carried through the parabolic read-outs of h and p. A stable equilibrium has a positive
+// definite Hessian; otherwise the theorem gives no (meaningful) derivative.
+void add_aspect_sensitivities(const LoopSensitivityInputs& in, const Eigen::VectorXd& x, PearLoopSample& sample) {
+  const auto n = static_cast<int>(x.size());
+  const int nf = in.free_count;
+  const Eigen::SparseMatrix<double> H = total_hessian(in.terms, x, false);
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(free_block(H, in.free_index, nf));
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+    sample.message = "sensitivities: the equilibrium Hessian is not positive definite";
+    return;
+  }
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
+  in.bending.add_gradient_per_parameter(x, G);
+  Eigen::MatrixXd rhs(nf, 3);
+  for (int dof = 0; dof < n; ++dof)
+    if (in.free_index[idx(dof)] >= 0) rhs.row(in.free_index[idx(dof)]) = -G.row(dof);
+  const Eigen::MatrixXd dxf = ldlt.solve(rhs);  // dx_f/dk, nf × 3
+  const auto dof_row = [&](int v, int axis) -> Eigen::RowVector3d {
+    const int f = in.free_index[idx(k_dim * v + axis)];
+    return f >= 0 ? Eigen::RowVector3d(dxf.row(f)) : Eigen::RowVector3d::Zero();
+  };
+  const CentreLine line = centre_line_of(x, in.centre_line);
+  std::vector<std::pair<int, double>> w;
+  const auto dextreme = [&](const std::vector<double>& f, double sign, int axis) {
+    parabolic_extreme(f, sign, w);
+    Eigen::RowVector3d dv = Eigen::RowVector3d::Zero();
+    for (const auto& [i, wi] : w) dv += wi * dof_row(in.centre_line[idx(i)], axis);
+    return dv;
+  };
+  const Eigen::RowVector3d dh = -dextreme(line.z, 1.0, 2);
+  const Eigen::RowVector3d dp = dextreme(line.x, -1.0, 0) - dextreme(line.x, 1.0, 0);
+  const double h = sample.height, p = sample.width;
+  sample.daspect_dktheta = ((p * dh - h * dp) / (p * p)).transpose();
+  sample.has_sensitivities = sample.daspect_dktheta.allFinite();
+  if (!sample.has_sensitivities) {
+    sample.daspect_dktheta.setZero();
+    sample.message = "sensitivities: not finite";
+  }
+}
+
+}  // namespace
 
 PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<double>& clamp_distances,
                                bool with_sensitivities, PearLoopWarmStart* warm) const {
@@ -219,32 +386,10 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
   const TermList terms{&membrane, &bending, &gravity};
   out.effects = numerics::term_names(terms);
   const int n = k_dim * m_mesh.vertex_count();
-
-  NewtonOptions options;
-  // Exact Hessian with the Levenberg shift as the safeguard: the per-element projection
-  // (project_psd) drops the θ∇²θ part of the bending Hessian, which is what turns the strip,
-  // and Newton then converges linearly (100+ iterations where the exact Hessian needs 5–30).
-  // The projection is kept as a fallback for starts far from equilibrium.
-  options.max_iterations = 100;
-  options.project_psd = false;
-  NewtonOptions robust = options;
-  robust.project_psd = true;
-  robust.max_iterations = 300;
-  // Residual forces below 1e-8 of the loop's force scale are numerical noise: its weight
-  // ρ g L W plus the force B W/L² that bends it to a radius of its length.
-  const double L = m_setup.length, W = m_setup.width;
-  const double k_max = std::max({params.bending.ktheta[0], params.bending.ktheta[1], params.bending.ktheta[2], 0.0});
-  const double force_scale = m_setup.areal_density * m_setup.gravity * L * W +
-                             bending_stiffness_per_width(k_max) * W / (L * L);
-  options.tolerance = 1e-8 * std::max(force_scale, 1e-300);
-
+  const LoopNewton newton = loop_newton(m_setup, params.bending);
   // Free-DOF numbering for the sensitivities.
-  std::vector<int> free_index(idx(n), 0);
-  for (int d : m_fixed_dofs) free_index[idx(d)] = -1;
   int nf = 0;
-  for (int d = 0; d < n; ++d) {
-    if (free_index[idx(d)] == 0) free_index[idx(d)] = nf++;
-  }
+  const std::vector<int> free_index = free_dof_index(n, m_fixed_dofs, nf);
 
   for (const double d : clamp_distances) {
     const auto t0 = numerics::Clock::now();
@@ -259,112 +404,15 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
       out.samples.push_back(sample);
       continue;
     }
-
     // A warm state for this distance, if an earlier run left one.
-    std::size_t slot = warm ? warm->clamp_distance.size() : 0;
-    if (warm) {
-      for (std::size_t i = 0; i < warm->clamp_distance.size(); ++i)
-        if (std::abs(warm->clamp_distance[i] - d) <= 1e-12 * L && warm->states[i].size() == n) slot = i;
-    }
-    NewtonSummary summary;
-    bool solved = false;
-    if (warm && slot < warm->clamp_distance.size()) {
-      Eigen::VectorXd trial = warm->states[slot];
-      summary = solve_static(terms, trial, m_fixed_dofs, options);
-      ++out.newton_solves;
-      out.newton_iterations += summary.iterations;
-      sample.newton_iterations += summary.iterations;
-      if (summary.converged()) {
-        x = trial;
-        solved = true;
-      }
-    }
-    // From the start loop: exact Hessian, then the projected one, then exact again from
-    // where the projected solve stopped (it converges fast once near the equilibrium).
-    const Eigen::VectorXd start_state = x;
-    for (int attempt = 0; attempt < 3 && !solved; ++attempt) {
-      Eigen::VectorXd trial = attempt == 1 ? start_state : x;
-      summary = solve_static(terms, trial, m_fixed_dofs, attempt == 1 ? robust : options);
-      ++out.newton_solves;
-      out.newton_iterations += summary.iterations;
-      sample.newton_iterations += summary.iterations;
-      if (summary.status != NewtonStatus::invalid_start) x = trial;
-      solved = summary.converged();
-    }
-    sample.converged = solved;
-    sample.residual = summary.residual;
-    if (!solved) sample.message = "equilibrium at clamp distance " + std::to_string(d) + " m failed: " + summary.brief();
-
-    const Shape shape = measure(x);
-    for (int e : m_across_edges) sample.max_curvature = std::max(sample.max_curvature, std::abs(bending.curvature(x, e)));
-    sample.height = shape.height;
-    sample.width = shape.width;
-    sample.aspect_ratio = shape.width > 0.0 ? shape.height / shape.width : 0.0;
-    if (!(std::isfinite(sample.aspect_ratio) && shape.width > 0.0)) {
-      sample.converged = false;
-      sample.aspect_ratio = 0.0;
-      if (sample.message.empty()) sample.message = "degenerate loop (zero width)";
-    }
-
-    if (solved && warm) {
-      if (slot < warm->clamp_distance.size()) {
-        warm->states[slot] = x;
-      } else {
-        warm->clamp_distance.push_back(d);
-        warm->states.push_back(x);
-      }
-    }
-
+    const std::size_t slot = warm_slot(warm, d, m_setup.length, n);
+    const Eigen::VectorXd* warm_state = warm && slot < warm->clamp_distance.size() ? &warm->states[slot] : nullptr;
+    const bool solved = solve_loop(terms, m_fixed_dofs, newton, warm_state, x, sample, out);
+    read_shape(measure(x), bending, m_across_edges, x, sample);
+    if (solved && warm) keep_warm(*warm, slot, d, x);
     if (sample.converged && with_sensitivities) {
-      const Eigen::SparseMatrix<double> H = total_hessian(terms, x, false);
-      std::vector<Eigen::Triplet<double>> ff;
-      for (int k = 0; k < H.outerSize(); ++k) {
-        for (Eigen::SparseMatrix<double>::InnerIterator it(H, k); it; ++it) {
-          const int fr = free_index[idx(static_cast<int>(it.row()))];
-          const int fc = free_index[idx(static_cast<int>(it.col()))];
-          if (fr >= 0 && fc >= 0) ff.emplace_back(fr, fc, it.value());
-        }
-      }
-      Eigen::SparseMatrix<double> Hff(nf, nf);
-      Hff.setFromTriplets(ff.begin(), ff.end());
-      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Hff);
-      // A stable equilibrium has a positive definite Hessian; otherwise the implicit function
-      // theorem gives no (meaningful) derivative.
-      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
-        sample.message = "sensitivities: the equilibrium Hessian is not positive definite";
-      } else {
-        Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 3);
-        bending.add_gradient_per_parameter(x, G);
-        Eigen::MatrixXd rhs(nf, 3);
-        for (int dof = 0; dof < n; ++dof)
-          if (free_index[idx(dof)] >= 0) rhs.row(free_index[idx(dof)]) = -G.row(dof);
-        const Eigen::MatrixXd dxf = ldlt.solve(rhs);  // dx_f/dk, nf × 3
-        const auto dof_row = [&](int v, int axis) -> Eigen::RowVector3d {
-          const int f = free_index[idx(k_dim * v + axis)];
-          return f >= 0 ? Eigen::RowVector3d(dxf.row(f)) : Eigen::RowVector3d::Zero();
-        };
-        std::vector<double> xs, zs;
-        for (int v : m_centre_line) {
-          xs.push_back(x[k_dim * v]);
-          zs.push_back(x[k_dim * v + 2]);
-        }
-        std::vector<std::pair<int, double>> w;
-        const auto dextreme = [&](const std::vector<double>& f, double sign, int axis) {
-          parabolic_extreme(f, sign, w);
-          Eigen::RowVector3d dv = Eigen::RowVector3d::Zero();
-          for (const auto& [i, wi] : w) dv += wi * dof_row(m_centre_line[idx(i)], axis);
-          return dv;
-        };
-        const Eigen::RowVector3d dh = -dextreme(zs, 1.0, 2);
-        const Eigen::RowVector3d dp = dextreme(xs, -1.0, 0) - dextreme(xs, 1.0, 0);
-        const double h = sample.height, p = sample.width;
-        sample.daspect_dktheta = ((p * dh - h * dp) / (p * p)).transpose();
-        sample.has_sensitivities = sample.daspect_dktheta.allFinite();
-        if (!sample.has_sensitivities) {
-          sample.daspect_dktheta.setZero();
-          sample.message = "sensitivities: not finite";
-        }
-      }
+      const LoopSensitivityInputs in{terms, bending, free_index, nf, m_centre_line};
+      add_aspect_sensitivities(in, x, sample);
     }
     sample.seconds = numerics::seconds_since(t0);
     if (out.message.empty() && !sample.message.empty()) out.message = sample.message;

@@ -177,6 +177,30 @@ std::vector<int> vertex_dofs(const std::vector<int>& vertices, int dim) {
   return dofs;
 }
 
+std::vector<int> free_dof_index(int dof_count, const std::vector<int>& fixed_dofs, int& free_count) {
+  std::vector<int> index(static_cast<std::size_t>(dof_count), 0);
+  for (int d : fixed_dofs) index[static_cast<std::size_t>(d)] = -1;
+  free_count = 0;
+  for (int& f : index)
+    if (f == 0) f = free_count++;
+  return index;
+}
+
+Eigen::SparseMatrix<double> free_block(const Eigen::SparseMatrix<double>& h, const std::vector<int>& free_index,
+                                       int free_count) {
+  std::vector<Eigen::Triplet<double>> ff;
+  for (int k = 0; k < h.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(h, k); it; ++it) {
+      const int fr = free_index[static_cast<std::size_t>(it.row())];
+      const int fc = free_index[static_cast<std::size_t>(it.col())];
+      if (fr >= 0 && fc >= 0) ff.emplace_back(fr, fc, it.value());
+    }
+  }
+  Eigen::SparseMatrix<double> hff(free_count, free_count);
+  hff.setFromTriplets(ff.begin(), ff.end());
+  return hff;
+}
+
 NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std::vector<int>& fixed_dofs,
                            const NewtonOptions& options) {
   std::string why;

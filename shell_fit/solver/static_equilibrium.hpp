@@ -60,6 +60,15 @@ NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std:
 // The DOFs dim·v + k (k < dim) of the given vertices: a clamped edge's fixed DOFs.
 [[nodiscard]] std::vector<int> vertex_dofs(const std::vector<int>& vertices, int dim);
 
+// The free DOFs of a scene, numbered: per DOF (of dof_count) its index among the DOFs not in
+// fixed_dofs, in order, or −1 when fixed; `free_count` receives their number.
+[[nodiscard]] std::vector<int> free_dof_index(int dof_count, const std::vector<int>& fixed_dofs, int& free_count);
+
+// The free–free block H_ff of a matrix over all DOFs (free_index from free_dof_index): the
+// Hessian the implicit function theorem's sensitivities solve with.
+[[nodiscard]] Eigen::SparseMatrix<double> free_block(const Eigen::SparseMatrix<double>& h,
+                                                     const std::vector<int>& free_index, int free_count);
+
 // Newton options for one load step of a continuation: the defaults with a smaller iteration
 // budget, so a load step that struggles fails fast and is halved instead of grinding on.
 [[nodiscard]] inline NewtonOptions continuation_step_defaults() {

@@ -5,9 +5,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <vector>
 
+#include "numerics/roots/bisection.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::testing {
@@ -49,12 +51,11 @@ Uniform uniform_weft(double kxx, double kxy, double kyy, double kn1, double kn2,
     const double area = 2.0 * kn1 * (J - 1.0) + 2.0 * kn2 * std::log(J) / J;  // ∂(area terms)/∂J
     return along_x ? (kxx * exx + kxy * eyy) * lx + area * ly : (kxy * exx + kyy * eyy) * ly + area * lx;
   };
-  double lo = 1e-3, hi = 1.5;  // ∂Ψ/∂λy < 0 at lo, > 0 at hi
-  for (int it = 0; it < 200; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (dpsi(mid, false) < 0.0 ? lo : hi) = mid;
-  }
-  const double ly = 0.5 * (lo + hi);
+  // ∂Ψ/∂λy < 0 at 1e-3, > 0 at 1.5: 200 halvings.
+  numerics::BisectionOptions o;
+  o.halvings = 200;
+  const double ly =
+      numerics::bisect([&](double l) -> std::optional<bool> { return dpsi(l, false) < 0.0; }, 1e-3, 1.5, o).x;
   return {dpsi(ly, true), 1.0 - ly};
 }
 
