@@ -223,15 +223,14 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
   out.effects = numerics::term_names(terms);
   const int n = k_dim * m_mesh.vertex_count();
 
-  NewtonOptions options;
   // Exact Hessian with the Levenberg shift as the safeguard: the per-element projection
-  // (project_psd) drops the θ∇²θ part of the bending Hessian, which is what turns the strip,
-  // and Newton then converges linearly (100+ iterations where the exact Hessian needs 5–30).
-  // The projection is kept as a fallback for starts far from equilibrium.
+  // drops the θ∇²θ part of the bending Hessian, which is what turns the strip, and Newton then
+  // converges linearly (100+ iterations where the exact Hessian needs 5–30). The shell's
+  // preset with the projection is kept as a fallback for starts far from equilibrium (at
+  // the preset's tolerance: it is set before the loop's own below).
+  NewtonOptions options = NewtonOptions::for_shell_unprojected();
   options.max_iterations = 100;
-  options.project_psd = false;
-  NewtonOptions robust = options;
-  robust.project_psd = true;
+  NewtonOptions robust = NewtonOptions::for_shell();
   robust.max_iterations = 300;
   // Residual forces below 1e-8 of the loop's force scale are numerical noise: its weight
   // ρ g L W plus the force B W/L² that bends it to a radius of its length.
