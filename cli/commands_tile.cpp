@@ -39,7 +39,7 @@ int run_weave_make(const TileMakeArgs& a) {
   db::WovenTileOptions o;
   o.yarn_spacing = 1e-3 * a.yarn_spacing_mm;
   o.yarn_radius = 1e-3 * a.yarn_radius_mm;
-  if (const std::string bad = o.check(); !bad.empty()) problems.push_back("--yarn-spacing-mm / --yarn-radius-mm: " + bad);
+  for (const auto& p : o.problems().items()) problems.push_back("--yarn-spacing-mm / --yarn-radius-mm: " + p.to_string());
   if (std::filesystem::exists(a.out) && !a.force) problems.push_back(a.out + ": exists (pass --force to replace it)");
   if (!problems.empty()) {
     for (const auto& p : problems) std::cerr << "tile make: " << p << "\n";
@@ -95,7 +95,7 @@ int run_tile_make(const TileMakeArgs& a) {
     if (params) o.params = *params;
   }
   if (problems.empty()) {
-    if (const std::string bad = o.geometry.check(); !bad.empty()) problems.push_back(bad);
+    for (const auto& p : o.geometry.problems().items()) problems.push_back(p.to_string());
   }
   if (!problems.empty()) {
     for (const auto& p : problems) std::cerr << "tile make: " << p << "\n";

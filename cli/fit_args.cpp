@@ -63,8 +63,9 @@ void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& a) {
   cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");
   cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.17)");
   cmd.add_flag("--relax-period", a.relax_period,
-               "Relax the tile period per candidate until its coarse stress at rest vanishes (after the rest "
-               "shape). Off by default: on the acrylic records with generated tiles it removed the stockinette's "
+               "Relax the tile period per candidate until its coarse stress at rest vanishes (the rest-period "
+               "relaxation, after the rest shape, whose own few period chord steps leave about a tenth of that "
+               "stress). Off by default: on the acrylic records with generated tiles it removed the stockinette's "
                "7.7 N/m at zero stretch but raised g on every knit tried, at 1.3-1.8x the time");
   cmd.add_flag("--no-profile", a.no_profile,
                "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "

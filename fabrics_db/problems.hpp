@@ -1,39 +1,12 @@
 #pragma once
-// Problems found in user input, collected rather than thrown so that one run reports
-// every problem of every file (SPEC §2, §5). Each renders as one line
-//   file:line: field: message
-// with ":line" left out where the file has no lines to point at (a missing file), and
-// "file:line: " left out where the problem is in options rather than in a file (`field` then
-// names the option, e.g. "particles: must be at least 2").
+// The readers' name for numerics::Problems (numerics/problems.hpp): problems found in user
+// input, collected rather than thrown so that one run reports every problem of every file.
 
-#include <cstddef>
-#include <string>
-#include <vector>
+#include "numerics/problems.hpp"
 
 namespace yarnfit::db {
 
-struct Problem {
-  std::string file;     // path as the user would type it; empty for an option
-  int line = 0;         // 1-based line in `file`; 0 when there is no line to name
-  std::string field;    // YAML key path, CSV column or pyp section; "file" for the file itself
-  std::string message;  // what is wrong and, where possible, what is expected
-
-  [[nodiscard]] std::string to_string() const;
-};
-
-class Problems {
- public:
-  void add(std::string file, int line, std::string field, std::string message);
-  void append(const Problems& other);
-
-  [[nodiscard]] bool empty() const { return m_items.empty(); }
-  [[nodiscard]] std::size_t size() const { return m_items.size(); }
-  [[nodiscard]] const std::vector<Problem>& items() const { return m_items; }
-  // All problems, one per line, in the order they were found.
-  [[nodiscard]] std::string to_string() const;
-
- private:
-  std::vector<Problem> m_items;
-};
+using Problem = numerics::Problem;
+using Problems = numerics::Problems;
 
 }  // namespace yarnfit::db

@@ -155,8 +155,7 @@ SwarmSettings read_settings(const Reader& r, const json& j) {
   s.repulsion_radius = r.real(j, "repulsion_radius", p);
   s.repulsion_strength = r.real(j, "repulsion_strength", p);
   s.seed = r.integer<std::uint64_t>(j, "seed", p);
-  std::string why;
-  if (!s.is_valid(&why)) r.fail("settings", why);
+  if (const numerics::Problems problems = s.problems(); !problems.empty()) r.fail("settings", problems.one_line());
   return s;
 }
 

@@ -7,11 +7,10 @@ namespace yarnfit::swarm {
 
 CobylaSummary run_cobyla(const ParameterSpace& space, const Objective& objective, const Eigen::VectorXd& start,
                          const CobylaSettings& settings) {
-  std::string why;
-  if (!settings.is_valid(&why)) throw std::invalid_argument(why);
-  if (!(settings.initial_step <= 1.0))
-    throw std::invalid_argument("cobyla settings: initial_step must be in (0, 1] (fraction of the range)");
-  if (!(settings.x_tolerance < 1.0)) throw std::invalid_argument("cobyla settings: x_tolerance must be in [0, 1)");
+  numerics::Problems problems = settings.problems();
+  if (!(settings.initial_step <= 1.0)) problems.add_field("initial_step", "must be in (0, 1] (fraction of the range)");
+  if (!(settings.x_tolerance < 1.0)) problems.add_field("x_tolerance", "must be in [0, 1)");
+  if (!problems.empty()) throw std::invalid_argument("cobyla settings: " + problems.one_line());
   Eigen::VectorXd u;
   try {
     u = space.to_unit(start);

@@ -47,22 +47,18 @@ Point evaluate_at(const ParameterSpace& space, const ResidualObjective& f, const
 
 }  // namespace
 
-bool ImplicitFilteringSettings::is_valid(std::string* why) const {
-  auto bad = [why](const std::string& message) {
-    if (why) *why = "implicit filtering settings: " + message;
-    return false;
-  };
-  if (const std::string stopping = local_stopping_problem(max_evaluations, max_seconds, stop_value, max_failures_kept);
-      !stopping.empty())
-    return bad(stopping);
-  if (!(initial_scale > 0.0 && initial_scale <= 0.5)) return bad("initial_scale must be in (0, 0.5] (fraction of the range)");
-  if (!(min_scale > 0.0 && min_scale <= initial_scale)) return bad("min_scale must be in (0, initial_scale]");
-  if (!(shrink > 0.0 && shrink < 1.0)) return bad("shrink must be in (0, 1)");
-  if (!(max_step_scales >= 1.0) || std::isinf(max_step_scales)) return bad("max_step_scales must be finite and ≥ 1");
-  if (line_search_steps < 0) return bad("line_search_steps must be ≥ 0");
-  if (!(levenberg >= 0.0) || std::isinf(levenberg)) return bad("levenberg must be finite and ≥ 0");
-  if (threads < 0) return bad("threads must be ≥ 0 (0: OpenMP's default)");
-  return true;
+numerics::Problems ImplicitFilteringSettings::problems() const {
+  numerics::Problems out;
+  add_local_stopping_problems(out, max_evaluations, max_seconds, stop_value, max_failures_kept);
+  if (!(initial_scale > 0.0 && initial_scale <= 0.5))
+    out.add_field("initial_scale", "must be in (0, 0.5] (fraction of the range)");
+  if (!(min_scale > 0.0 && min_scale <= initial_scale)) out.add_field("min_scale", "must be in (0, initial_scale]");
+  if (!(shrink > 0.0 && shrink < 1.0)) out.add_field("shrink", "must be in (0, 1)");
+  if (!(max_step_scales >= 1.0) || std::isinf(max_step_scales)) out.add_field("max_step_scales", "must be finite and ≥ 1");
+  if (line_search_steps < 0) out.add_field("line_search_steps", "must be ≥ 0");
+  if (!(levenberg >= 0.0) || std::isinf(levenberg)) out.add_field("levenberg", "must be finite and ≥ 0");
+  if (threads < 0) out.add_field("threads", "must be ≥ 0 (0: OpenMP's default)");
+  return out;
 }
 
 const char* to_string(ImplicitFilteringStatus status) {
@@ -104,8 +100,8 @@ ImplicitFilteringSummary run_implicit_filtering(const ParameterSpace& space, con
                                                 const Eigen::VectorXd& start,
                                                 const ImplicitFilteringSettings& settings,
                                                 const ImplicitFilteringProgress& progress) {
-  std::string why;
-  if (!settings.is_valid(&why)) throw std::invalid_argument(why);
+  if (const numerics::Problems problems = settings.problems(); !problems.empty())
+    throw std::invalid_argument("implicit filtering settings: " + problems.one_line());
   Eigen::VectorXd u;
   try {
     u = space.to_unit(start);

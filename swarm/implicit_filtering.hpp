@@ -61,8 +61,8 @@ struct ImplicitFilteringSettings {
   int threads = 0;              // for the stencil; 0: OpenMP's default
   int max_failures_kept = 50;
 
-  // False with the reason, naming the field, in *why when a setting is out of range.
-  [[nodiscard]] bool is_valid(std::string* why) const;
+  // Every setting out of range, under its field's name; empty when valid.
+  [[nodiscard]] numerics::Problems problems() const;
 };
 
 enum class ImplicitFilteringStatus {

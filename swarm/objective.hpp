@@ -14,7 +14,7 @@ using numerics::evaluate_guarded;
 using numerics::Evaluation;
 using numerics::FailedEvaluation;
 using numerics::keep_failure;
-using numerics::local_stopping_problem;
+using numerics::add_local_stopping_problems;
 using numerics::Objective;
 
 // Which particle is being evaluated, so that an objective can keep per-particle state (for

@@ -234,26 +234,25 @@ ParticleObjective ignore_context(const Objective& f) {
 
 }  // namespace
 
-bool SwarmSettings::is_valid(std::string* why) const {
-  auto bad = [why](const std::string& message) {
-    if (why) *why = "swarm settings: " + message;
-    return false;
+numerics::Problems SwarmSettings::problems() const {
+  numerics::Problems out;
+  const auto finite_at_least = [](double v, double lo) { return std::isfinite(v) && v >= lo; };
+  const auto must_be_finite = [&](const char* field, double v) {
+    if (!finite_at_least(v, 0.0)) out.add_field(field, "must be finite and ≥ 0");
   };
-  auto finite_at_least = [](double v, double lo) { return std::isfinite(v) && v >= lo; };
-  if (particles < 2) return bad("particles must be at least 2 (got " + std::to_string(particles) + ")");
-  if (iterations < 1) return bad("iterations must be at least 1 (got " + std::to_string(iterations) + ")");
-  if (!finite_at_least(inertia_start, 0.0)) return bad("inertia_start must be finite and ≥ 0");
-  if (!finite_at_least(inertia_end, 0.0)) return bad("inertia_end must be finite and ≥ 0");
-  if (!finite_at_least(cognitive, 0.0)) return bad("cognitive must be finite and ≥ 0");
-  if (!finite_at_least(social, 0.0)) return bad("social must be finite and ≥ 0");
-  if (!(max_velocity > 0.0 && max_velocity <= 1.0)) return bad("max_velocity must be in (0, 1] (fraction of the range)");
-  if (!finite_at_least(repulsion_radius, 0.0)) return bad("repulsion_radius must be finite and ≥ 0");
-  if (!finite_at_least(repulsion_strength, 0.0)) return bad("repulsion_strength must be finite and ≥ 0");
-  if (initial_points.size() > static_cast<std::size_t>(particles)) {
-    return bad("initial_points has " + std::to_string(initial_points.size()) + " points, more than particles (" +
-               std::to_string(particles) + ")");
-  }
-  return true;
+  if (particles < 2) out.add_field("particles", "must be at least 2 (got " + std::to_string(particles) + ")");
+  if (iterations < 1) out.add_field("iterations", "must be at least 1 (got " + std::to_string(iterations) + ")");
+  must_be_finite("inertia_start", inertia_start);
+  must_be_finite("inertia_end", inertia_end);
+  must_be_finite("cognitive", cognitive);
+  must_be_finite("social", social);
+  if (!(max_velocity > 0.0 && max_velocity <= 1.0)) out.add_field("max_velocity", "must be in (0, 1] (fraction of the range)");
+  must_be_finite("repulsion_radius", repulsion_radius);
+  must_be_finite("repulsion_strength", repulsion_strength);
+  if (initial_points.size() > static_cast<std::size_t>(particles))
+    out.add_field("initial_points", "has " + std::to_string(initial_points.size()) + " points, more than particles (" +
+                                        std::to_string(particles) + ")");
+  return out;
 }
 
 const char* to_string(SwarmStatus status) {
@@ -281,8 +280,8 @@ std::string SwarmSummary::brief_report() const {
 
 SwarmSummary run_swarm(const ParameterSpace& space, const ParticleObjective& objective, const SwarmSettings& settings,
                        const SwarmRunOptions& options) {
-  std::string why;
-  if (!settings.is_valid(&why)) throw std::invalid_argument(why);
+  if (const numerics::Problems problems = settings.problems(); !problems.empty())
+    throw std::invalid_argument("swarm settings: " + problems.one_line());
   RandomStream rng(settings.seed);
   return continue_run(start_state(space, settings, rng), space, objective, options, options.checkpoint);
 }

@@ -80,8 +80,8 @@ struct SwarmSettings {
   // they only matter before the first checkpoint is written.
   std::vector<Eigen::VectorXd> initial_points;
 
-  // False with the reason, naming the field, in *why when a setting is out of range.
-  [[nodiscard]] bool is_valid(std::string* why) const;
+  // Every setting out of range, under its field's name; empty when valid.
+  [[nodiscard]] numerics::Problems problems() const;
 };
 
 // One iteration of the history.

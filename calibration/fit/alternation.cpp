@@ -390,16 +390,16 @@ void fall_back(const YarnObjective& objective, const swarm::ParameterSpace& spac
 
 }  // namespace
 
-std::string AlternationSettings::invalid_reason() const {
-  if (max_rounds < 1) return "max_rounds must be at least 1 (got " + std::to_string(max_rounds) + ")";
+db::Problems AlternationSettings::problems() const {
+  db::Problems out;
+  if (max_rounds < 1) out.add_field("max_rounds", "must be at least 1 (got " + std::to_string(max_rounds) + ")");
   if (iterations_per_round < 1)
-    return "iterations_per_round must be at least 1 (got " + std::to_string(iterations_per_round) + ")";
-  if (!(initial_radius > 0.0 && initial_radius <= 1.0)) return "initial_radius must be in (0, 1]";
-  if (!(move_tolerance > 0.0 && move_tolerance < 1.0)) return "move_tolerance must be in (0, 1)";
-  if (failures_before_fallback < 1) return "failures_before_fallback must be at least 1";
-  std::string why;
-  if (!fallback.is_valid(&why)) return "fallback: " + why;
-  return {};
+    out.add_field("iterations_per_round", "must be at least 1 (got " + std::to_string(iterations_per_round) + ")");
+  if (!(initial_radius > 0.0 && initial_radius <= 1.0)) out.add_field("initial_radius", "must be in (0, 1]");
+  if (!(move_tolerance > 0.0 && move_tolerance < 1.0)) out.add_field("move_tolerance", "must be in (0, 1)");
+  if (failures_before_fallback < 1) out.add_field("failures_before_fallback", "must be at least 1");
+  out.append(fallback.problems(), "fallback.");
+  return out;
 }
 
 std::string AlternationSummary::brief_report() const {
@@ -416,8 +416,8 @@ std::string AlternationSummary::brief_report() const {
 AlternationSummary run_alternation(const YarnObjective& objective, const swarm::ParameterSpace& space,
                                    const PointToParams& to_params, const Eigen::VectorXd& start,
                                    const AlternationSettings& settings, const AlternationProgress& progress) {
-  if (const std::string why = settings.invalid_reason(); !why.empty())
-    throw std::invalid_argument("alternation settings: " + why);
+  if (const db::Problems problems = settings.problems(); !problems.empty())
+    throw std::invalid_argument("alternation settings: " + problems.one_line());
   if (const auto outside = space.bounds_problems(start); !outside.empty())
     throw std::invalid_argument("alternation start: " + outside.front());
   const auto t0 = Clock::now();

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "calibration/objective/yarn_objective.hpp"
+#include "fabrics_db/problems.hpp"
 #include "swarm/implicit_filtering.hpp"
 #include "swarm/parameter_space.hpp"
 
@@ -45,7 +46,9 @@ struct AlternationSettings {
   int failures_before_fallback = 2; // failed rounds in a row before implicit filtering takes over
   swarm::ImplicitFilteringSettings fallback;  // its max_evaluations is the fallback's budget
 
-  [[nodiscard]] std::string invalid_reason() const;  // empty when valid
+  // Every invalid field, under its name ("fallback.shrink" for the fallback's); empty when
+  // valid.
+  [[nodiscard]] db::Problems problems() const;
 };
 
 struct AlternationRound {

@@ -156,23 +156,25 @@ std::optional<GlobalMethod> global_method_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-std::string StagedSearchSettings::invalid_reason() const {
+db::Problems StagedSearchSettings::problems() const {
+  db::Problems out;
   for (const auto* s : {&contact, &all}) {
-    const char* which = s == &contact ? "contact" : "all";
-    if (s->particles < 2) return std::string(which) + " particles must be at least 2";
-    if (s->iterations < 1) return std::string(which) + " iterations must be at least 1";
-    if (s->samples < 2) return std::string(which) + " samples must be at least 2";
-    if (s->rest_rounds < 0) return std::string(which) + " rest_rounds must not be negative";
+    const std::string which = s == &contact ? "contact." : "all.";
+    if (s->particles < 2) out.add_field(which + "particles", "must be at least 2");
+    if (s->iterations < 1) out.add_field(which + "iterations", "must be at least 1");
+    if (s->samples < 2) out.add_field(which + "samples", "must be at least 2");
+    if (s->rest_rounds < 0) out.add_field(which + "rest_rounds", "must not be negative");
   }
-  if (!(r1_window > 0.0 && r1_window <= 0.5)) return "r1_window must be in (0, 0.5]";
-  if (rescored < 1) return "rescored must be at least 1";
-  if (!(distinct >= 0.0 && distinct < 1.0)) return "distinct must be in [0, 1)";
-  if (starts < 1 || starts > rescored) return "starts must be in [1, rescored]";
-  return {};
+  if (!(r1_window > 0.0 && r1_window <= 0.5)) out.add_field("r1_window", "must be in (0, 0.5]");
+  if (rescored < 1) out.add_field("rescored", "must be at least 1");
+  if (!(distinct >= 0.0 && distinct < 1.0)) out.add_field("distinct", "must be in [0, 1)");
+  if (starts < 1 || starts > rescored) out.add_field("starts", "must be in [1, rescored]");
+  return out;
 }
 
 GlobalSearchResult run_staged_search(const GlobalSearchInput& in, const StagedSearchSettings& s) {
-  if (const std::string why = s.invalid_reason(); !why.empty()) throw std::invalid_argument("staged search: " + why);
+  if (const db::Problems problems = s.problems(); !problems.empty())
+    throw std::invalid_argument("staged search: " + problems.one_line());
   const auto start = Clock::now();
   GlobalSearchResult out;
   const swarm::ParameterSpace& full = *in.space;

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "calibration/objective/yarn_objective.hpp"
+#include "fabrics_db/problems.hpp"
 #include "reports/progress.hpp"
 #include "swarm/particle_swarm.hpp"
 
@@ -57,7 +58,8 @@ struct StagedSearchSettings {
   double distinct = 0.05;    // candidates closer than this (unit cube, ∞-norm) count as one
   int starts = 2;            // local runs, from the best rescored candidates
 
-  [[nodiscard]] std::string invalid_reason() const;  // empty when valid
+  // Every invalid field, under its name ("contact.particles"); empty when valid.
+  [[nodiscard]] db::Problems problems() const;
 };
 
 struct GlobalStage {

@@ -74,15 +74,8 @@ db::Problems YarnFitSettings::problems() const {
     say("bending_points", "must be 0 (no check) or at least 2" + got(bending_points));
   if (!(profile_step >= 0.0 && profile_step < 1.0)) say("profile_step", "must be in [0, 1) (0: no profile)" + got(profile_step));
   if (resume && checkpoint.empty()) say("resume", "needs a checkpoint file");
-  if (const std::string why = staged.invalid_reason(); !why.empty()) say("staged", why);
-  if (const std::string why = alternation.invalid_reason(); !why.empty()) say("alternation", why);
-  return out;
-}
-
-std::string YarnFitSettings::invalid_reason() const {
-  const db::Problems all = problems();
-  std::string out;
-  for (const auto& p : all.items()) out += (out.empty() ? "" : "; ") + p.to_string();
+  out.append(staged.problems(), "staged.");
+  out.append(alternation.problems(), "alternation.");
   return out;
 }
 
@@ -337,8 +330,8 @@ void finish_fit(const FitRun& run, const yarn::YarnTile& tile, const std::vector
 
 YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings) {
-  if (const std::string why = settings.invalid_reason(); !why.empty())
-    throw std::invalid_argument("yarn fit settings: " + why);
+  if (const db::Problems problems = settings.problems(); !problems.empty())
+    throw std::invalid_argument("yarn fit settings: " + problems.one_line());
   if (!settings.swarm && settings.start) {  // checked before anything else
     const auto outside = yarn_parameter_space(scales, settings.linear_stretch)
                              .bounds_problems(point_from_params(*settings.start, settings.linear_stretch));

@@ -103,8 +103,6 @@ struct YarnFitSettings {
   // Every invalid field, each named as above ("particles", "swarm_samples", …); empty when
   // the settings are usable. Checked before any work starts.
   [[nodiscard]] db::Problems problems() const;
-  // The same as one line ("field: message; field: message"); empty when valid.
-  [[nodiscard]] std::string invalid_reason() const;
 };
 
 struct YarnFitResult {

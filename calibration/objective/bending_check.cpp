@@ -24,7 +24,8 @@ BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<db::Dir
   for (const auto& t : targets) any = any || t.bending.size() >= 2;
   if (!any) return finish({});
   if (points < 2) return finish("bending check: points must be at least 2");
-  if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    return finish("invalid parameters: " + invalid.one_line());
 
   // The rest state the objective relaxes for these parameters (rest_state.hpp).
   const RestState rest = relax_rest_state(tile, params, {options.rest_shape, options.rest, options.rest_period, options.period});

@@ -14,7 +14,8 @@ RestState relax_rest_state(const yarn::YarnTile& tile, const yarn::YarnParams& p
     out.seconds = numerics::seconds_since(start);
     return out;
   };
-  if (const auto why = params.invalid_reason()) return finish("invalid parameters: " + *why);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    return finish("invalid parameters: " + invalid.one_line());
   out.system.emplace(tile, params);
   yarn::YarnSystem& system = *out.system;
   out.g = Eigen::VectorXd::Zero(system.dof_count());

@@ -71,20 +71,23 @@ DirectionScale comfort_scale(const db::DirectionTargets& t, const ObjectiveOptio
 
 }  // namespace
 
-std::string ObjectiveOptions::invalid_reason() const {
-  if (samples < 2) return "samples must be at least 2 (got " + std::to_string(samples) + ")";
-  if (compression_nodes < 2) return "compression_nodes must be at least 2 (got " + std::to_string(compression_nodes) + ")";
-  if (!(comfort_line_force > 0.0)) return "comfort_line_force must be positive";
-  if (!(min_compression_norm > 0.0)) return "min_compression_norm must be positive";
+db::Problems ObjectiveOptions::problems() const {
+  db::Problems out;
+  if (samples < 2) out.add_field("samples", "must be at least 2 (got " + std::to_string(samples) + ")");
+  if (compression_nodes < 2)
+    out.add_field("compression_nodes", "must be at least 2 (got " + std::to_string(compression_nodes) + ")");
+  if (!(comfort_line_force > 0.0)) out.add_field("comfort_line_force", "must be positive");
+  if (!(min_compression_norm > 0.0)) out.add_field("min_compression_norm", "must be positive");
   if (!(compression_stress_fraction >= 0.0 && compression_stress_fraction < 0.1))
-    return "compression_stress_fraction must be in [0, 0.1)";
-  if (rest_period && !(period_stress_fraction > 0.0)) return "period_stress_fraction must be positive";
-  return {};
+    out.add_field("compression_stress_fraction", "must be in [0, 0.1)");
+  if (rest_period && !(period_stress_fraction > 0.0)) out.add_field("period_stress_fraction", "must be positive");
+  return out;
 }
 
 YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTargets> targets, ObjectiveOptions options)
     : m_tile(std::move(tile)), m_options(std::move(options)) {
-  if (const auto why = m_options.invalid_reason(); !why.empty()) throw std::invalid_argument("objective: " + why);
+  if (const db::Problems problems = m_options.problems(); !problems.empty())
+    throw std::invalid_argument("objective: " + problems.one_line());
   for (auto& t : targets) {
     if (t.stretch.size() < 2) continue;
     DirectionScale sc = comfort_scale(t, m_options);
@@ -137,7 +140,8 @@ ObjectiveResult YarnObjective::evaluate(const yarn::YarnParams& params, double c
   const auto start = Clock::now();
   ObjectiveResult out;
   out.value = std::numeric_limits<double>::infinity();
-  if (const auto why = params.invalid_reason()) return finished(out, "invalid parameters: " + *why, start);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    return finished(out, "invalid parameters: " + invalid.one_line(), start);
   const RestState rest = rest_state(params);
   out.rest = rest.rest;
   out.period = rest.period;
@@ -157,7 +161,8 @@ ObjectiveResult YarnObjective::evaluate_at_rest(const RestState& rest, const yar
   out.value = std::numeric_limits<double>::infinity();
   out.held_rest = true;
   out.derivative_params.assign(options.wanted.begin(), options.wanted.end());
-  if (const auto why = params.invalid_reason()) return finished(out, "invalid parameters: " + *why, start);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    return finished(out, "invalid parameters: " + invalid.one_line(), start);
   if (!rest.ok || !rest.system) return finished(out, "no rest state to hold: " + rest.message, start);
   out.effects = rest.system->effects();
   sweep_directions(rest, &params, options, out);

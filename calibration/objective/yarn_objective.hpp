@@ -48,6 +48,7 @@
 
 #include "calibration/objective/direction_sweep.hpp"
 #include "calibration/objective/rest_state.hpp"
+#include "fabrics_db/problems.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/homogenise/rest_period.hpp"
@@ -90,8 +91,9 @@ struct ObjectiveOptions {
   double accept_bands = 1.0;
   bool rest_shape = true;                  // run the heuristic per candidate (off: ablation)
   yarn::RestShapeOptions rest;
-  // true (--relax-period): after the rest shape, the tile period is relaxed per candidate
-  // until its coarse stress at χ = 0 vanishes (rest_period.hpp), so that every candidate
+  // true (--relax-period): after the rest shape (whose period chord steps leave about a tenth
+  // of the rest stress), the tile period is relaxed per candidate until its coarse stress at
+  // χ = 0 vanishes (the rest-period relaxation, rest_period.hpp), so that every candidate
   // starts from its own stress-free rest, as the targets do (S = 0 at s = 0). Off by default:
   // on the acrylic records with generated tiles it removed the stockinette's rest stress and
   // lowered its comfort-range errors, but g rose on every knit tried, the free compression at
@@ -109,8 +111,8 @@ struct ObjectiveOptions {
   double comfort_line_force = 100.0 / 3.0;  // N/m: 2 N on a 6 cm swatch
   double min_compression_norm = 1e-3;
 
-  // Empty when valid, else what is wrong.
-  [[nodiscard]] std::string invalid_reason() const;
+  // Every invalid field, under its name; empty when valid.
+  [[nodiscard]] db::Problems problems() const;
 };
 
 struct ObjectiveResult {

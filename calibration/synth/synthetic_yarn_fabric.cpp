@@ -26,7 +26,8 @@ SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const ya
     throw std::invalid_argument("synth yarn: max stretch must be positive and finite");
   }
   if (options.points < 2) throw std::invalid_argument("synth yarn: at least 2 points per direction");
-  if (const auto why = params.invalid_reason()) throw std::invalid_argument("synth yarn: parameters: " + *why);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    throw std::invalid_argument("synth yarn: parameters: " + invalid.one_line());
 
   SyntheticYarnResult out;
   yarn::YarnSystem system(yarn::make_yarn_tile(tile), params);

@@ -79,22 +79,26 @@ Depths depths_of(const KnitChart& chart, int j, int k, double gap) {
 
 }  // namespace
 
-std::string KnitTileOptions::check() const {
-  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(stitch_length)) return "stitch_length must be positive";
-  if (!positive(yarn_radius)) return "yarn_radius must be positive";
+Problems KnitTileOptions::problems() const {
+  Problems out;
+  const auto must_be_positive = [&](const char* field, double v) {
+    if (!(std::isfinite(v) && v > 0.0)) out.add_field(field, "must be positive");
+  };
+  must_be_positive("stitch_length", stitch_length);
+  must_be_positive("yarn_radius", yarn_radius);
   if (vertices_per_stitch < 8)
-    return "vertices_per_stitch must be at least 8 (two legs, a head and a sinker), got " +
-           std::to_string(vertices_per_stitch);
-  if (!positive(depth)) return "depth must be positive";
-  if (!positive(course_ratio)) return "course_ratio must be positive";
-  if (!positive(height_ratio)) return "height_ratio must be positive";
-  if (!std::isfinite(bulge_ratio) || bulge_ratio < 0.0) return "bulge_ratio must be zero or positive";
-  return {};
+    out.add_field("vertices_per_stitch",
+                  "must be at least 8 (two legs, a head and a sinker), got " + std::to_string(vertices_per_stitch));
+  must_be_positive("depth", depth);
+  must_be_positive("course_ratio", course_ratio);
+  must_be_positive("height_ratio", height_ratio);
+  if (!std::isfinite(bulge_ratio) || bulge_ratio < 0.0) out.add_field("bulge_ratio", "must be zero or positive");
+  return out;
 }
 
 KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) {
-  if (const std::string why = options.check(); !why.empty()) throw std::invalid_argument("make_knit_tile: " + why);
+  if (const Problems problems = options.problems(); !problems.empty())
+    throw std::invalid_argument("make_knit_tile: " + problems.one_line());
   if (chart.courses() == 0 || chart.wales() == 0) throw std::invalid_argument("make_knit_tile: empty chart");
   const int n = options.vertices_per_stitch;
   const double length = options.stitch_length;

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "fabrics_db/tile/knit_chart.hpp"
+#include "fabrics_db/problems.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 
 namespace yarnfit::db {
@@ -50,8 +51,8 @@ struct KnitTileOptions {
   double height_ratio = 1.273;  // h / w
   double bulge_ratio = 0.239;   // a / w
 
-  // Empty if usable, else what is wrong (naming the option).
-  [[nodiscard]] std::string check() const;
+  // What is wrong, under each option's name; empty if usable.
+  [[nodiscard]] Problems problems() const;
 };
 
 struct KnitTile {

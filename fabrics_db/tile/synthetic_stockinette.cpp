@@ -7,25 +7,24 @@
 
 namespace yarnfit::db {
 
-std::string StockinetteTileOptions::check() const {
+Problems StockinetteTileOptions::problems() const {
+  Problems out;
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(yarn_radius)) return "yarn_radius must be positive";
-  if (!positive(period_x)) return "period_x must be positive";
-  if (!positive(period_y)) return "period_y must be positive";
-  if (vertices_per_loop < 8) {
-    return "vertices_per_loop must be at least 8 (the loop has two legs, a head and a sinker), got " +
-           std::to_string(vertices_per_loop);
-  }
-  if (!positive(loop_height)) return "loop_height (h / period_y) must be positive";
-  if (!std::isfinite(bulge) || bulge < 0.0) return "bulge (a / period_x) must be zero or positive";
-  if (!positive(depth)) return "depth (c / yarn_radius) must be positive";
-  return {};
+  if (!positive(yarn_radius)) out.add_field("yarn_radius", "must be positive");
+  if (!positive(period_x)) out.add_field("period_x", "must be positive");
+  if (!positive(period_y)) out.add_field("period_y", "must be positive");
+  if (vertices_per_loop < 8)
+    out.add_field("vertices_per_loop", "must be at least 8 (the loop has two legs, a head and a sinker), got " +
+                                           std::to_string(vertices_per_loop));
+  if (!positive(loop_height)) out.add_field("loop_height", "must be positive (it is h / period_y)");
+  if (!std::isfinite(bulge) || bulge < 0.0) out.add_field("bulge", "must be zero or positive (it is a / period_x)");
+  if (!positive(depth)) out.add_field("depth", "must be positive (it is c / yarn_radius)");
+  return out;
 }
 
 PeriodicTile make_stockinette_tile(const StockinetteTileOptions& options) {
-  if (const std::string why = options.check(); !why.empty()) {
-    throw std::invalid_argument("make_stockinette_tile: " + why);
-  }
+  if (const Problems problems = options.problems(); !problems.empty())
+    throw std::invalid_argument("make_stockinette_tile: " + problems.one_line());
   const int n = options.vertices_per_loop;
   const double px = options.period_x;
   const double a = options.bulge * px;

@@ -20,6 +20,7 @@
 
 #include <string>
 
+#include "fabrics_db/problems.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 
 namespace yarnfit::db {
@@ -37,11 +38,11 @@ struct StockinetteTileOptions {
   double bulge = 0.25;           // a / px, > 1/8 for a head wider than the neck
   double depth = 1.4;            // c / R, front–back amplitude of the yarn centreline
 
-  // Empty if the options make a tile, else what is wrong (naming the option).
-  [[nodiscard]] std::string check() const;
+  // What is wrong, under each option's name; empty if the options make a tile.
+  [[nodiscard]] Problems problems() const;
 };
 
-// Throws std::invalid_argument with the message of `options.check()` if it is not empty.
+// Throws std::invalid_argument with `options.problems()` if there are any.
 PeriodicTile make_stockinette_tile(const StockinetteTileOptions& options = {});
 
 }  // namespace yarnfit::db

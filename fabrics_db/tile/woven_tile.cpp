@@ -96,20 +96,22 @@ std::optional<WeaveChart> parse_weave_chart(const std::string& given, std::strin
   return out;
 }
 
-std::string WovenTileOptions::check() const {
+Problems WovenTileOptions::problems() const {
+  Problems out;
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(yarn_radius)) return "yarn_radius must be positive";
-  if (!positive(yarn_spacing)) return "yarn_spacing must be positive";
-  if (yarn_spacing < 2.0 * yarn_radius)
-    return "yarn_spacing must be at least twice the yarn radius (neighbouring yarns would overlap)";
+  if (!positive(yarn_radius)) out.add_field("yarn_radius", "must be positive");
+  if (!positive(yarn_spacing)) out.add_field("yarn_spacing", "must be positive");
+  else if (yarn_spacing < 2.0 * yarn_radius)
+    out.add_field("yarn_spacing", "must be at least twice the yarn radius (neighbouring yarns would overlap)");
   if (vertices_per_crossing < 3)
-    return "vertices_per_crossing must be at least 3, got " + std::to_string(vertices_per_crossing);
-  if (!positive(depth)) return "depth must be positive";
-  return {};
+    out.add_field("vertices_per_crossing", "must be at least 3, got " + std::to_string(vertices_per_crossing));
+  if (!positive(depth)) out.add_field("depth", "must be positive");
+  return out;
 }
 
 PeriodicTile make_woven_tile(const WeaveChart& chart, const WovenTileOptions& options) {
-  if (const std::string why = options.check(); !why.empty()) throw std::invalid_argument("make_woven_tile: " + why);
+  if (const Problems problems = options.problems(); !problems.empty())
+    throw std::invalid_argument("make_woven_tile: " + problems.one_line());
   if (chart.wefts() == 0 || chart.warps() == 0) throw std::invalid_argument("make_woven_tile: empty chart");
   const double s = options.yarn_spacing;
   const int n = options.vertices_per_crossing;

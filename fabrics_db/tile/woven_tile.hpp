@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "fabrics_db/problems.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 
 namespace yarnfit::db {
@@ -55,8 +56,8 @@ struct WovenTileOptions {
   int vertices_per_crossing = 6;
   double depth = 1.0;         // half the centreline gap at a crossing, in yarn radii
 
-  // Empty if usable, else what is wrong (naming the option).
-  [[nodiscard]] std::string check() const;
+  // What is wrong, under each option's name; empty if usable.
+  [[nodiscard]] Problems problems() const;
 };
 
 // The tile, yarns in the order: the wefts (lowest first), then the warps (left first).

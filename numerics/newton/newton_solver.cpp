@@ -20,43 +20,102 @@ double infinity_norm(const Eigen::VectorXd& v) { return v.size() > 0 ? v.lpNorm<
 
 }  // namespace
 
-std::vector<std::string> NewtonOptions::problems() const {
-  std::vector<std::string> out;
-  const auto bad = [&](const std::string& m) { out.push_back("NewtonOptions." + m); };
+NewtonPolicy NewtonPolicy::shell() { return {}; }
+
+NewtonPolicy NewtonPolicy::shell_unprojected() {
+  NewtonPolicy p = shell();
+  p.project_psd = false;
+  return p;
+}
+
+NewtonPolicy NewtonPolicy::yarn_tile() {
+  NewtonPolicy p;
+  // The exact Hessian gives quadratic convergence near equilibrium, where it is positive
+  // definite on the constraint space; the per-element PSD projection is the safeguard when
+  // it is not (far from equilibrium, or at an unstable state). Projected-only Newton
+  // converges linearly when some elements are indefinite at the solution (edges in
+  // compression, barrier curvature). Every iteration starts from the exact Hessian.
+  p.project_psd = true;
+  p.exact_hessian_first = true;
+  p.remember_projection = false;
+  p.project_after_failed_line_search = false;
+  // An indefinite exact Hessian is first shifted (Levenberg): the shifted step still follows
+  // the directions of negative curvature out of a saddle, where the per-element projection
+  // would discard them and creep, converging linearly. A shift beyond 1e-3 of the mean
+  // diagonal falls back to the projection, which takes longer steps far from equilibrium
+  // (the limit chosen by measurement: docs/slack-tiles.md).
+  p.shift_initial = 1e-8;
+  p.exact_shift_limit = 1e-3;
+  p.exact_shift_growth = 10.0;
+  p.exact_shift_floor = 1e-6;
+  p.shift_growth = 100.0;
+  p.shift_max = 1e2;
+  p.fail_beyond_shift_max = false;
+  p.max_failed_attempts = 8;
+  p.shift_shrink = 0.25;
+  p.shift_floor = 1e-10;
+  p.limited_step_growth = 4.0;
+  p.shift_past_nonpositive_diagonal = false;
+  // The tile's Hessian is indefinite along a yarn sliding through itself against the tile,
+  // which the constraints forbid: positive definite on them is enough for the exact step.
+  p.accept_definite_on_constraints = true;
+  p.precision_floor = PrecisionFloor::predicted_decrease;
+  p.floor_residual_factor = 1.0;
+  p.roundoff_converged_factor = 1e3;
+  return p;
+}
+
+void NewtonPolicy::add_problems(Problems& out, const std::string& prefix) const {
+  const auto bad = [&](const char* field, const char* m) { out.add_field(prefix + field, m); };
   const auto finite_at_least = [](double v, double lo) { return std::isfinite(v) && v >= lo; };
-  if (max_iterations < 0) bad("max_iterations must be ≥ 0");
-  if (!finite_at_least(tolerance, 0.0)) bad("tolerance must be finite and ≥ 0");
-  if (!finite_at_least(time_limit_s, 0.0)) bad("time_limit_s must be finite and ≥ 0 (0: none)");
-  if (!finite_at_least(loose_tolerance, 0.0)) bad("loose_tolerance must be finite and ≥ 0 (0: off)");
-  if (loose_after < 0) bad("loose_after must be ≥ 0");
-  if (!finite_at_least(readout_tolerance, 0.0)) bad("readout_tolerance must be finite and ≥ 0 (0: off)");
-  if (readout_steps < 1) bad("readout_steps must be ≥ 1");
-  if (max_line_search_steps < 1) bad("max_line_search_steps must be ≥ 1");
-  if (!(armijo > 0.0 && armijo < 0.5)) bad("armijo must be in (0, 0.5)");
-  if (!finite_at_least(shift_initial, 0.0)) bad("shift_initial must be finite and ≥ 0");
-  if (!(shift_start > 0.0) || !std::isfinite(shift_start)) bad("shift_start must be positive and finite");
-  if (!(shift_growth > 1.0) || !std::isfinite(shift_growth)) bad("shift_growth must be > 1 and finite");
-  if (!(shift_shrink > 0.0 && shift_shrink < 1.0)) bad("shift_shrink must be in (0, 1)");
-  if (!(shift_max >= shift_start) || !std::isfinite(shift_max)) bad("shift_max must be finite and ≥ shift_start");
-  if (!finite_at_least(shift_floor, 0.0) || shift_floor > shift_max) bad("shift_floor must be in [0, shift_max]");
-  if (max_failed_attempts < 0) bad("max_failed_attempts must be ≥ 0 (0: no limit)");
-  if (!finite_at_least(exact_shift_limit, 0.0)) bad("exact_shift_limit must be finite and ≥ 0 (0: project at once)");
-  if (!(exact_shift_growth > 1.0) || !std::isfinite(exact_shift_growth)) bad("exact_shift_growth must be > 1 and finite");
-  if (!finite_at_least(exact_shift_floor, 0.0)) bad("exact_shift_floor must be finite and ≥ 0");
-  if (!finite_at_least(limited_step_growth, 1.0)) bad("limited_step_growth must be finite and ≥ 1");
-  if (!(floor_residual_factor > 0.0 && floor_residual_factor <= 1.0)) bad("floor_residual_factor must be in (0, 1]");
-  if (!finite_at_least(roundoff_converged_factor, 0.0)) bad("roundoff_converged_factor must be finite and ≥ 0");
+  if (max_line_search_steps < 1) bad("max_line_search_steps", "must be ≥ 1");
+  if (!(armijo > 0.0 && armijo < 0.5)) bad("armijo", "must be in (0, 0.5)");
+  if (!finite_at_least(shift_initial, 0.0)) bad("shift_initial", "must be finite and ≥ 0");
+  if (!(shift_start > 0.0) || !std::isfinite(shift_start)) bad("shift_start", "must be positive and finite");
+  if (!(shift_growth > 1.0) || !std::isfinite(shift_growth)) bad("shift_growth", "must be > 1 and finite");
+  if (!(shift_shrink > 0.0 && shift_shrink < 1.0)) bad("shift_shrink", "must be in (0, 1)");
+  if (!(shift_max >= shift_start) || !std::isfinite(shift_max)) bad("shift_max", "must be finite and ≥ shift_start");
+  if (!finite_at_least(shift_floor, 0.0) || shift_floor > shift_max) bad("shift_floor", "must be in [0, shift_max]");
+  if (max_failed_attempts < 0) bad("max_failed_attempts", "must be ≥ 0 (0: no limit)");
+  if (!finite_at_least(exact_shift_limit, 0.0)) bad("exact_shift_limit", "must be finite and ≥ 0 (0: project at once)");
+  if (!(exact_shift_growth > 1.0) || !std::isfinite(exact_shift_growth)) bad("exact_shift_growth", "must be > 1 and finite");
+  if (!finite_at_least(exact_shift_floor, 0.0)) bad("exact_shift_floor", "must be finite and ≥ 0");
+  if (!finite_at_least(limited_step_growth, 1.0)) bad("limited_step_growth", "must be finite and ≥ 1");
+  if (!(floor_residual_factor > 0.0 && floor_residual_factor <= 1.0)) bad("floor_residual_factor", "must be in (0, 1]");
+  if (!finite_at_least(roundoff_converged_factor, 0.0)) bad("roundoff_converged_factor", "must be finite and ≥ 0");
+}
+
+NewtonOptions NewtonOptions::for_shell() { return {}; }
+
+NewtonOptions NewtonOptions::for_shell_unprojected() {
+  NewtonOptions o;
+  o.policy = NewtonPolicy::shell_unprojected();
+  return o;
+}
+
+NewtonOptions NewtonOptions::for_yarn_tile() {
+  NewtonOptions o;
+  o.policy = NewtonPolicy::yarn_tile();
+  return o;
+}
+
+Problems NewtonOptions::problems() const {
+  Problems out;
+  add_problems(out, "NewtonOptions.");
   return out;
 }
 
-bool NewtonOptions::is_valid(std::string* why) const {
-  const auto found = problems();
-  if (found.empty()) return true;
-  if (why != nullptr) {
-    *why = found.front();
-    for (std::size_t i = 1; i < found.size(); ++i) *why += "; " + found[i];
-  }
-  return false;
+void NewtonOptions::add_problems(Problems& out, const std::string& prefix) const {
+  const auto bad = [&](const char* field, const char* m) { out.add_field(prefix + field, m); };
+  const auto finite_at_least = [](double v, double lo) { return std::isfinite(v) && v >= lo; };
+  if (max_iterations < 0) bad("max_iterations", "must be ≥ 0");
+  if (!finite_at_least(tolerance, 0.0)) bad("tolerance", "must be finite and ≥ 0");
+  if (!finite_at_least(time_limit_s, 0.0)) bad("time_limit_s", "must be finite and ≥ 0 (0: none)");
+  if (!finite_at_least(loose_tolerance, 0.0)) bad("loose_tolerance", "must be finite and ≥ 0 (0: off)");
+  if (loose_after < 0) bad("loose_after", "must be ≥ 0");
+  if (!finite_at_least(readout_tolerance, 0.0)) bad("readout_tolerance", "must be finite and ≥ 0 (0: off)");
+  if (readout_steps < 1) bad("readout_steps", "must be ≥ 1");
+  policy.add_problems(out, prefix + "policy.");
 }
 
 const char* to_string(NewtonStatus status) {
@@ -99,8 +158,10 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
                            ShiftedLdlt* workspace) {
   const auto start = Clock::now();
   const auto elapsed = [&] { return seconds_since(start); };
+  if (const Problems problems = options.problems(); !problems.empty())
+    throw std::invalid_argument("solve_newton: " + problems.one_line());
+  const NewtonPolicy& policy = options.policy;
   std::string why;
-  if (!options.is_valid(&why)) throw std::invalid_argument("solve_newton: " + why);
 
   NewtonSummary summary;
   summary.tolerance = options.tolerance;
@@ -144,10 +205,10 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
 
   Triplets triplets;
   Eigen::VectorXd trial(n), trial_gradient;
-  double shift = options.shift_initial;  // relative shift μ
+  double shift = policy.shift_initial;  // relative shift μ
   bool exact_failed_last = false;        // remember_projection: the exact Hessian failed last iteration
   int nan_trials = 0;                    // trial energies that were NaN (a term breaking its contract)
-  const bool predicted_floor = options.precision_floor == PrecisionFloor::predicted_decrease;
+  const bool predicted_floor = policy.precision_floor == PrecisionFloor::predicted_decrease;
   // The read-out test: the read-out at x, and how many accepted steps in a row changed it by
   // at most a quarter of the tolerance.
   Eigen::VectorXd readout, next_readout;
@@ -183,17 +244,17 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
 
     // The exact Hessian first (the true Newton step, and no per-element eigen-decompositions)
     // unless the options or the last iteration say otherwise; the projection when it fails.
-    const bool skip_exact = options.project_psd && options.exact_hessian_first && options.remember_projection &&
+    const bool skip_exact = policy.project_psd && policy.exact_hessian_first && policy.remember_projection &&
                             exact_failed_last;
-    bool exact = !options.project_psd || (options.exact_hessian_first && !skip_exact);
+    bool exact = !policy.project_psd || (policy.exact_hessian_first && !skip_exact);
     const auto assemble = [&]() {
       triplets.clear();
       ++summary.assemblies;
       if (!problem.hessian(x, !exact, triplets, &why)) return false;
       factor.assemble(n, triplets);
-      if (options.shift_past_nonpositive_diagonal) {
+      if (policy.shift_past_nonpositive_diagonal) {
         const double lowest = factor.relative_min_diagonal();
-        if (lowest <= 0.0) shift = std::max(shift, options.shift_start - lowest);
+        if (lowest <= 0.0) shift = std::max(shift, policy.shift_start - lowest);
       }
       return true;
     };
@@ -220,13 +281,13 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     };
     const auto grow_shift = [&]() {
       ++failed_attempts;
-      shift = shift == 0.0 ? options.shift_start : shift * options.shift_growth;
-      if (shift <= options.shift_max) return true;
-      if (!options.fail_beyond_shift_max) {
-        shift = options.shift_max;
+      shift = shift == 0.0 ? policy.shift_start : shift * policy.shift_growth;
+      if (shift <= policy.shift_max) return true;
+      if (!policy.fail_beyond_shift_max) {
+        shift = policy.shift_max;
         return true;
       }
-      std::string message = last_failure + " at every shift up to " + format_number(options.shift_max) +
+      std::string message = last_failure + " at every shift up to " + format_number(policy.shift_max) +
                             " x mean |diag H|; residual " + format_number(residual);
       if (nan_trials > 0)
         message += "; " + std::to_string(nan_trials) + " trial energies were NaN (a term breaks its contract)";
@@ -235,20 +296,20 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     };
 
     while (!accepted) {
-      if (options.max_failed_attempts > 0 && failed_attempts >= options.max_failed_attempts) break;
+      if (policy.max_failed_attempts > 0 && failed_attempts >= policy.max_failed_attempts) break;
       ++summary.factorisations;
       // K⁻¹Cᵀ, kept when the inertia test computed it for this factorisation.
       Eigen::MatrixXd kc;
       const bool definite = factor.factorise(shift) ||
-                            (exact && c != nullptr && options.accept_definite_on_constraints &&
+                            (exact && c != nullptr && policy.accept_definite_on_constraints &&
                              positive_definite_on_constraints(factor, *c, &kc));
       if (!definite) {
         last_failure = "the shifted Hessian was not positive definite";
-        if (exact && shift < options.exact_shift_limit) {
-          shift = std::max(shift * options.exact_shift_growth, options.exact_shift_floor);
+        if (exact && shift < policy.exact_shift_limit) {
+          shift = std::max(shift * policy.exact_shift_growth, policy.exact_shift_floor);
           continue;
         }
-        if (exact && options.project_psd) {
+        if (exact && policy.project_psd) {
           if (!switch_to_projection()) return *stopped;
           continue;
         }
@@ -269,7 +330,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
         step -= c->transpose() * cct_ldlt.solve(*c * step);
       }
       const auto after_failed_step = [&]() {
-        if (exact && options.project_psd && options.project_after_failed_line_search) return switch_to_projection();
+        if (exact && policy.project_psd && policy.project_after_failed_line_search) return switch_to_projection();
         return grow_shift();
       };
       if (!step.allFinite()) {
@@ -288,7 +349,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
         // At the precision floor: take the step if it lowers the residual.
         trial = x + t * step;
         const double e = problem.energy_gradient(trial, trial_gradient);
-        if (std::isfinite(e) && residual_of(trial_gradient) < options.floor_residual_factor * residual) {
+        if (std::isfinite(e) && residual_of(trial_gradient) < policy.floor_residual_factor * residual) {
           x.swap(trial);
           accepted = floor_step = true;
         } else if (shift > 0.0 && !unshifted_at_floor) {
@@ -303,7 +364,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
       }
       if (!(slope < 0.0)) {
         last_failure = "the Newton step was not a descent direction";
-        if (exact && options.project_psd) {
+        if (exact && policy.project_psd) {
           if (!switch_to_projection()) return *stopped;
           continue;
         }
@@ -311,12 +372,12 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
         continue;
       }
       int infinite_trials = 0;
-      for (int k = 0; k < options.max_line_search_steps; ++k) {
+      for (int k = 0; k < policy.max_line_search_steps; ++k) {
         trial = x + t * step;
         ++summary.energy_evaluations;
         const double e = problem.energy(trial);
         if (std::isnan(e)) ++nan_trials;
-        if (std::isfinite(e) && e <= energy + options.armijo * t * slope) {
+        if (std::isfinite(e) && e <= energy + policy.armijo * t * slope) {
           accepted = true;
           break;
         }
@@ -326,12 +387,12 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
           // The decrease drowns in round-off: accept a step that lowers the residual (the
           // quantity the stopping test measures) instead.
           problem.energy_gradient(trial, trial_gradient);
-          accepted = residual_of(trial_gradient) < options.floor_residual_factor * residual;
+          accepted = residual_of(trial_gradient) < policy.floor_residual_factor * residual;
           break;
         } else if (!predicted_floor && k == 0 && std::abs(e - energy) <= 1e-12 * std::abs(energy)) {
           // The full step changes E by less than its rounding: take it if it cuts the residual.
           problem.energy_gradient(trial, trial_gradient);
-          if (trial_gradient.allFinite() && residual_of(trial_gradient) <= options.floor_residual_factor * residual) {
+          if (trial_gradient.allFinite() && residual_of(trial_gradient) <= policy.floor_residual_factor * residual) {
             accepted = true;
             break;
           }
@@ -343,9 +404,9 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
         x.swap(trial);
         break;
       }
-      last_failure = "no Armijo step in " + std::to_string(options.max_line_search_steps) + " halvings (" +
+      last_failure = "no Armijo step in " + std::to_string(policy.max_line_search_steps) + " halvings (" +
                      std::to_string(infinite_trials) + " trial points had non-finite energy)";
-      if (exact && options.project_psd && options.project_after_failed_line_search) {
+      if (exact && policy.project_psd && policy.project_after_failed_line_search) {
         if (!switch_to_projection()) return *stopped;
         continue;
       }
@@ -358,7 +419,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     }
     if (!accepted) {
       // At the precision limit the residual may sit just above the tolerance.
-      if (residual <= options.roundoff_converged_factor * options.tolerance)
+      if (residual <= policy.roundoff_converged_factor * options.tolerance)
         return finish(NewtonStatus::converged, "stopped at the round-off floor of the energy");
       return finish(NewtonStatus::line_search_failed, "no step decreased the energy (residual " +
                                                           format_number(residual) + ", tolerance " +
@@ -370,11 +431,11 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
     if (!exact) ++summary.projected_steps;
     if (exact || skip_exact) exact_failed_last = false;
     if (!floor_step) {
-      if (limited && options.limited_step_growth > 1.0) {
-        shift = std::min(shift * options.limited_step_growth, options.shift_max);
+      if (limited && policy.limited_step_growth > 1.0) {
+        shift = std::min(shift * policy.limited_step_growth, policy.shift_max);
       } else {
-        shift = std::max(shift * options.shift_shrink, options.shift_floor);
-        if (options.shift_floor == 0.0 && shift < options.shift_start) shift = 0.0;
+        shift = std::max(shift * policy.shift_shrink, policy.shift_floor);
+        if (policy.shift_floor == 0.0 && shift < policy.shift_start) shift = 0.0;
       }
     }
     problem.prepare(x);

@@ -24,7 +24,7 @@
 // last accepted state and says why in its summary (STYLE "Solvers report what happened").
 //
 // The two simulators were tuned separately and keep their own settings of the same
-// algorithm (shell_fit/solver/static_equilibrium.hpp, yarn_fit/solver/equilibrium.hpp): which
+// algorithm, one preset each (NewtonPolicy::shell(), NewtonPolicy::yarn_tile()): which
 // Hessian comes first after a failure, how the shift grows and shrinks, and what counts as
 // the precision floor of the energy. Their fixed degrees of freedom, constraints, contact
 // lists and load continuation stay with them, behind NewtonProblem.
@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "numerics/linear/shifted_ldlt.hpp"
+#include "numerics/problems.hpp"
 #include "numerics/terms/energy_term.hpp"
 
 namespace yarnfit::numerics {
@@ -78,45 +79,26 @@ class NewtonProblem {
 
 // What the solver takes as the energy's precision floor, where the predicted decrease
 // ½gᵀH⁻¹g drowns in the rounding of E (which sums thousands of element energies, each exact
-// to about 1e-16 of its size):
+// to about 1e-16 of its size). Each simulator's preset picks one (NewtonPolicy):
 enum class PrecisionFloor {
-  // When the first trial's change of E is below 1e-12·|E|, the step is taken if it lowers
-  // the residual below floor_residual_factor times the current one; when no shift gives an
-  // Armijo step and the predicted decrease is below 1e-12·|E|, the solve stops with
+  // The shell's: when the first trial's change of E is below 1e-12·|E|, the step is taken if
+  // it lowers the residual below floor_residual_factor times the current one; when no shift
+  // gives an Armijo step and the predicted decrease is below 1e-12·|E|, the solve stops with
   // line_search_failed (the tolerance is below what the problem can resolve).
   first_trial_change,
-  // When the predicted decrease along the (cut) step is below 1e-12·|E|, the step is taken if
-  // it lowers the residual below floor_residual_factor times the current one, and the
-  // iteration ends either way; an iteration that found no step ends the solve as converged
-  // when the residual is within roundoff_converged_factor of the tolerance.
+  // The yarn tile's: when the predicted decrease along the (cut) step is below 1e-12·|E|, the
+  // step is taken if it lowers the residual below floor_residual_factor times the current
+  // one, and the iteration ends either way; an iteration that found no step ends the solve as
+  // converged when the residual is within roundoff_converged_factor of the tolerance.
   predicted_decrease,
 };
 
-struct NewtonOptions {
-  int max_iterations = 200;
-  // On the residual (∞-norm of the free or projected gradient), in the problem's units:
-  // the caller scales it to the problem (a fraction of a clamp force per node, a strain of
-  // the stiff yarn phase).
-  double tolerance = 1e-8;
-  double time_limit_s = 0.0;  // 0: none
-  // After loose_after iterations, a residual ≤ loose_tolerance (0: off) ends the solve as
-  // converged_loosely: a caller that can bound the read-out error it accepts says so here,
-  // and the status keeps it visible.
-  double loose_tolerance = 0.0;
-  int loose_after = 60;
-
-  // The read-out test (0: off), in the read-out's units: the solve ends as
-  // converged_readout once the problem's read-out changed by at most readout_tolerance / 4
-  // (∞-norm) over each of the last readout_steps accepted steps, the last of them a full
-  // Newton step. Near a degenerate minimum Newton converges only linearly — a contact barrier
-  // that enters as (1 − x)⁶ gives the ratio (n − 2)/(n − 1) = 0.8 — and then the change still
-  // to come is at most 0.8/(1 − 0.8) = 4 times the last one, within readout_tolerance,
-  // although the residual may be far above `tolerance`. That bound does not hold when the
-  // state then slides along a mechanism (slack yarns: tests/yarn_fit, SlackTile; figures in
-  // docs/slack-tiles.md). Callers choose the tolerance a decade below what they compare.
-  double readout_tolerance = 0.0;
-  int readout_steps = 3;
-
+// How the solver safeguards its steps: which Hessian comes first after a failure, how the
+// shift grows and shrinks, the line search, and what counts as the energy's precision floor.
+// The two simulators were tuned separately; each takes its preset whole (shell(),
+// shell_unprojected(), yarn_tile()) rather than setting these field by field. The member
+// defaults are the shell's.
+struct NewtonPolicy {
   int max_line_search_steps = 40;  // halvings before a direction is given up
   double armijo = 1e-4;            // c in E(x + t d) ≤ E(x) + c·t·gᵀd
 
@@ -167,11 +149,70 @@ struct NewtonOptions {
   double floor_residual_factor = 0.5;
   double roundoff_converged_factor = 0.0;  // predicted_decrease only (0: never)
 
-  // Every invalid field, one line each ("NewtonOptions.armijo must be in (0, 0.5)"); empty
-  // when valid.
-  [[nodiscard]] std::vector<std::string> problems() const;
-  // False with the problems joined in *why.
-  [[nodiscard]] bool is_valid(std::string* why) const;
+  // The shell's (shell_fit/solver/static_equilibrium.hpp): the exact Hessian first in every
+  // iteration and the per-element PSD projection when it is not positive definite or its step
+  // fails (the next iteration then starts projected); μ = 0 first (or what a non-positive
+  // diagonal entry demands), ×2 from 1e-8 after every failure up to 1e10 (then the solve
+  // fails), ×1/4 after a step and back to 0 below 1e-8; the precision floor of the first
+  // trial's change. The member defaults.
+  [[nodiscard]] static NewtonPolicy shell();
+  // The shell's without the projection: the exact Hessian with the shift as the only
+  // safeguard (a bending-dominated scene, whose projection drops the θ∇²θ part that turns it).
+  [[nodiscard]] static NewtonPolicy shell_unprojected();
+  // The yarn tile's (yarn_fit/solver/equilibrium.hpp): the exact Hessian first in every
+  // iteration, shifted by up to 1e-3 of its mean diagonal before the projection replaces it;
+  // μ from 1e-8, ×1/4 after a full step, ×4 after a cut one, ×100 after a failure, between
+  // 1e-10 and 1e2, at most 8 failed attempts per iteration; the exact step where the Hessian
+  // is definite on the constraints; the precision floor of the predicted decrease.
+  [[nodiscard]] static NewtonPolicy yarn_tile();
+
+  // Adds every invalid field to `out`, named prefix + field.
+  void add_problems(Problems& out, const std::string& prefix) const;
+};
+
+// A Newton solve: its budget and stopping tests, which the caller sets, and the safeguards of
+// its simulator, which it takes from a preset:
+//   NewtonOptions o = NewtonOptions::for_yarn_tile();
+//   o.tolerance = …;
+// NewtonOptions{} is for_shell().
+struct NewtonOptions {
+  int max_iterations = 200;
+  // On the residual (∞-norm of the free or projected gradient), in the problem's units:
+  // the caller scales it to the problem (a fraction of a clamp force per node, a strain of
+  // the stiff yarn phase).
+  double tolerance = 1e-8;
+  double time_limit_s = 0.0;  // 0: none
+  // After loose_after iterations, a residual ≤ loose_tolerance (0: off) ends the solve as
+  // converged_loosely: a caller that can bound the read-out error it accepts says so here,
+  // and the status keeps it visible.
+  double loose_tolerance = 0.0;
+  int loose_after = 60;
+
+  // The read-out test (0: off), in the read-out's units: the solve ends as
+  // converged_readout once the problem's read-out changed by at most readout_tolerance / 4
+  // (∞-norm) over each of the last readout_steps accepted steps, the last of them a full
+  // Newton step. Near a degenerate minimum Newton converges only linearly — a contact barrier
+  // that enters as (1 − x)⁶ gives the ratio (n − 2)/(n − 1) = 0.8 — and then the change still
+  // to come is at most 0.8/(1 − 0.8) = 4 times the last one, within readout_tolerance,
+  // although the residual may be far above `tolerance`. That bound does not hold when the
+  // state then slides along a mechanism (slack yarns: tests/yarn_fit, SlackTile; figures in
+  // docs/slack-tiles.md). Callers choose the tolerance a decade below what they compare.
+  double readout_tolerance = 0.0;
+  int readout_steps = 3;
+
+  // The simulator's safeguards (a preset of NewtonPolicy).
+  NewtonPolicy policy;
+
+  // The presets with the default budget and tolerance (NewtonPolicy's of the same names).
+  [[nodiscard]] static NewtonOptions for_shell();
+  [[nodiscard]] static NewtonOptions for_shell_unprojected();
+  [[nodiscard]] static NewtonOptions for_yarn_tile();
+
+  // Every invalid field, named "NewtonOptions.<field>" ("NewtonOptions.policy.armijo");
+  // empty when valid.
+  [[nodiscard]] Problems problems() const;
+  // The same under another name: prefix + field ("newton.tolerance" for prefix "newton.").
+  void add_problems(Problems& out, const std::string& prefix) const;
 };
 
 enum class NewtonStatus {

@@ -97,19 +97,16 @@ void check(nlopt_result r, const char* what) {
 
 }  // namespace
 
-bool CobylaSettings::is_valid(std::string* why) const {
-  auto bad = [why](const std::string& message) {
-    if (why) *why = "cobyla settings: " + message;
-    return false;
-  };
-  if (const std::string stopping = local_stopping_problem(max_evaluations, max_seconds, stop_value, max_failures_kept);
-      !stopping.empty())
-    return bad(stopping);
-  if (!(initial_step > 0.0) || !std::isfinite(initial_step)) return bad("initial_step must be positive and finite");
-  if (!(x_tolerance >= 0.0) || !std::isfinite(x_tolerance)) return bad("x_tolerance must be finite and ≥ 0");
-  if (!(f_tolerance_relative >= 0.0) || std::isinf(f_tolerance_relative)) return bad("f_tolerance_relative must be finite and ≥ 0");
-  if (!(f_tolerance_absolute >= 0.0) || std::isinf(f_tolerance_absolute)) return bad("f_tolerance_absolute must be finite and ≥ 0");
-  return true;
+Problems CobylaSettings::problems() const {
+  Problems out;
+  add_local_stopping_problems(out, max_evaluations, max_seconds, stop_value, max_failures_kept);
+  if (!(initial_step > 0.0) || !std::isfinite(initial_step)) out.add_field("initial_step", "must be positive and finite");
+  if (!(x_tolerance >= 0.0) || !std::isfinite(x_tolerance)) out.add_field("x_tolerance", "must be finite and ≥ 0");
+  if (!(f_tolerance_relative >= 0.0) || std::isinf(f_tolerance_relative))
+    out.add_field("f_tolerance_relative", "must be finite and ≥ 0");
+  if (!(f_tolerance_absolute >= 0.0) || std::isinf(f_tolerance_absolute))
+    out.add_field("f_tolerance_absolute", "must be finite and ≥ 0");
+  return out;
 }
 
 const char* to_string(CobylaStatus status) {
@@ -147,8 +144,8 @@ std::string CobylaSummary::brief_report() const {
 
 CobylaSummary run_cobyla(const Objective& objective, const Eigen::VectorXd& start, const Eigen::VectorXd& lower,
                          const Eigen::VectorXd& upper, const CobylaSettings& settings) {
-  std::string why;
-  if (!settings.is_valid(&why)) throw std::invalid_argument(why);
+  if (const Problems problems = settings.problems(); !problems.empty())
+    throw std::invalid_argument("cobyla settings: " + problems.one_line());
   if (lower.size() != start.size() || upper.size() != start.size() || start.size() == 0)
     throw std::invalid_argument("cobyla: start, lower and upper need the same, non-zero size");
   for (Eigen::Index i = 0; i < start.size(); ++i) {

@@ -39,8 +39,8 @@ struct CobylaSettings {
   double stop_value = -std::numeric_limits<double>::infinity();
   int max_failures_kept = 50;
 
-  // False with the reason, naming the field, in *why when a setting is out of range.
-  [[nodiscard]] bool is_valid(std::string* why) const;
+  // Every setting out of range, under its field's name; empty when valid.
+  [[nodiscard]] Problems problems() const;
 };
 
 enum class CobylaStatus {

@@ -41,13 +41,13 @@ void keep_failure(std::vector<FailedEvaluation>& failures, int max_kept, int eva
   }
 }
 
-std::string local_stopping_problem(int max_evaluations, double max_seconds, double stop_value,
-                                   int max_failures_kept) {
-  if (max_evaluations < 1) return "max_evaluations must be at least 1 (got " + std::to_string(max_evaluations) + ")";
-  if (!(max_seconds >= 0.0) || std::isinf(max_seconds)) return "max_seconds must be finite and ≥ 0 (0: no limit)";
-  if (std::isnan(stop_value)) return "stop_value must not be NaN (-inf: off)";
-  if (max_failures_kept < 0) return "max_failures_kept must be ≥ 0";
-  return {};
+void add_local_stopping_problems(Problems& out, int max_evaluations, double max_seconds, double stop_value,
+                                 int max_failures_kept) {
+  if (max_evaluations < 1)
+    out.add_field("max_evaluations", "must be at least 1 (got " + std::to_string(max_evaluations) + ")");
+  if (!(max_seconds >= 0.0) || std::isinf(max_seconds)) out.add_field("max_seconds", "must be finite and ≥ 0 (0: no limit)");
+  if (std::isnan(stop_value)) out.add_field("stop_value", "must not be NaN (-inf: off)");
+  if (max_failures_kept < 0) out.add_field("max_failures_kept", "must be ≥ 0");
 }
 
 }  // namespace yarnfit::numerics

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "numerics/problems.hpp"
+
 namespace yarnfit::numerics {
 
 // f(x) with x in the caller's coordinates (inside the optimiser's bounds). The swarm calls it
@@ -45,10 +47,10 @@ struct FailedEvaluation {
 void keep_failure(std::vector<FailedEvaluation>& failures, int max_kept, int evaluation, int iteration, int particle,
                   const Eigen::VectorXd& x, const std::string& message) noexcept;
 
-// What is wrong with the stopping settings both local optimisers share, or empty:
-// max_evaluations ≥ 1; max_seconds finite and ≥ 0 (0: no limit); stop_value not NaN (-inf:
-// off); max_failures_kept ≥ 0.
-[[nodiscard]] std::string local_stopping_problem(int max_evaluations, double max_seconds, double stop_value,
-                                                 int max_failures_kept);
+// Adds to `out` what is wrong with the stopping settings both local optimisers share, each
+// under its field's name: max_evaluations ≥ 1; max_seconds finite and ≥ 0 (0: no limit);
+// stop_value not NaN (-inf: off); max_failures_kept ≥ 0.
+void add_local_stopping_problems(Problems& out, int max_evaluations, double max_seconds, double stop_value,
+                                 int max_failures_kept);
 
 }  // namespace yarnfit::numerics

@@ -19,14 +19,15 @@ double limited_secant_step(double to_root, double step) {
 
 }  // namespace
 
-std::string RootFindOptions::problem() const {
-  if (std::isnan(lower) || std::isnan(upper) || !(lower <= upper)) return "lower ≤ upper required";
-  if (!(initial_step > 0.0) || !std::isfinite(initial_step)) return "initial_step must be positive and finite";
-  if (!(initial_slope >= 0.0) || !std::isfinite(initial_slope)) return "initial_slope must be finite and ≥ 0";
-  if (!(x_tolerance >= 0.0) || !std::isfinite(x_tolerance)) return "x_tolerance must be finite and ≥ 0";
-  if (!(f_tolerance >= 0.0) || !std::isfinite(f_tolerance)) return "f_tolerance must be finite and ≥ 0";
-  if (max_evaluations < 1) return "max_evaluations must be ≥ 1";
-  return {};
+Problems RootFindOptions::problems() const {
+  Problems out;
+  if (std::isnan(lower) || std::isnan(upper) || !(lower <= upper)) out.add_field("lower, upper", "lower ≤ upper required");
+  if (!(initial_step > 0.0) || !std::isfinite(initial_step)) out.add_field("initial_step", "must be positive and finite");
+  if (!(initial_slope >= 0.0) || !std::isfinite(initial_slope)) out.add_field("initial_slope", "must be finite and ≥ 0");
+  if (!(x_tolerance >= 0.0) || !std::isfinite(x_tolerance)) out.add_field("x_tolerance", "must be finite and ≥ 0");
+  if (!(f_tolerance >= 0.0) || !std::isfinite(f_tolerance)) out.add_field("f_tolerance", "must be finite and ≥ 0");
+  if (max_evaluations < 1) out.add_field("max_evaluations", "must be ≥ 1");
+  return out;
 }
 
 const char* to_string(RootStatus status) {
@@ -40,7 +41,8 @@ const char* to_string(RootStatus status) {
 }
 
 RootResult find_root(const RootFunction& f, double guess, const RootFindOptions& o) {
-  if (const std::string why = o.problem(); !why.empty()) throw std::invalid_argument("find_root: " + why);
+  if (const Problems problems = o.problems(); !problems.empty())
+    throw std::invalid_argument("find_root: " + problems.one_line());
   RootResult out;
   const auto evaluate = [&](double x) {
     ++out.evaluations;

@@ -25,6 +25,8 @@
 #include <optional>
 #include <string>
 
+#include "numerics/problems.hpp"
+
 namespace yarnfit::numerics {
 
 struct RootFindOptions {
@@ -36,7 +38,8 @@ struct RootFindOptions {
   double f_tolerance = 0.0;
   int max_evaluations = 60;
 
-  [[nodiscard]] std::string problem() const;  // empty when valid
+  // Every invalid field, under its name; empty when valid.
+  [[nodiscard]] Problems problems() const;
 };
 
 enum class RootStatus {

@@ -44,7 +44,6 @@ struct ShellFitOptions {
 
   // Every invalid field, each named ("mesh", "refinements", …); empty when all are usable.
   [[nodiscard]] db::Problems problems() const;
-  [[nodiscard]] bool is_valid() const { return problems().empty(); }
 };
 
 struct ShellFitResult {

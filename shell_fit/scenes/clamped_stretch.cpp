@@ -109,7 +109,7 @@ namespace {
 // from the affine prediction; one that needs dozens is in trouble (a fit's trial point near
 // inversion) and should fail fast so the optimiser can step back, instead of grinding.
 NewtonOptions load_step_options(const InplaneParams& params, double width) {
-  NewtonOptions options;
+  NewtonOptions options = NewtonOptions::for_shell();
   options.max_iterations = 40;
   // Residual forces below 1e-9 of the force a unit strain would need are numerical noise.
   const double force_scale = std::max({params.kxx, params.kyy, params.kxy, params.kss, 1e-12}) * width;

@@ -222,10 +222,10 @@ PearLoopScene::Shape PearLoopScene::measure(const Eigen::VectorXd& x) const {
 namespace {
 
 // The loop's Newton settings. Exact Hessian with the Levenberg shift as the safeguard: the
-// per-element projection (project_psd) drops the θ∇²θ part of the bending Hessian, which is
-// what turns the strip, and Newton then converges linearly (100+ iterations where the exact
-// Hessian needs 5–30). The projection is kept as a fallback (robust) for starts far from
-// equilibrium.
+// per-element projection (NewtonPolicy::project_psd) drops the θ∇²θ part of the bending
+// Hessian, which is what turns the strip, and Newton then converges linearly (100+ iterations
+// where the exact Hessian needs 5–30). The shell's preset with the projection is kept as a
+// fallback (robust) for starts far from equilibrium.
 struct LoopNewton {
   NewtonOptions exact, robust;
 };
@@ -233,12 +233,10 @@ struct LoopNewton {
 LoopNewton loop_newton(const PearLoopSetup& setup, const BendingParams& bending) {
   LoopNewton out;
   NewtonOptions& options = out.exact;
+  options = NewtonOptions::for_shell_unprojected();
   options.max_iterations = 100;
-  options.project_psd = false;
-  // Copied before the tolerance below: the projected solve, which the exact one always
-  // follows, stops at NewtonOptions' default tolerance.
-  out.robust = options;
-  out.robust.project_psd = true;
+  // The projected solve, which the exact one always follows, stops at the preset's tolerance.
+  out.robust = NewtonOptions::for_shell();
   out.robust.max_iterations = 300;
   // Residual forces below 1e-8 of the loop's force scale are numerical noise: its weight
   // ρ g L W plus the force B W/L² that bends it to a radius of its length.

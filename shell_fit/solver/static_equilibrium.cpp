@@ -119,29 +119,17 @@ class FreeDofProblem final : public numerics::NewtonProblem {
 
 // ---------------------------------------------------------------------------------------------
 
-bool ContinuationOptions::is_valid(std::string* why) const {
-  std::string inner;
-  if (!newton.is_valid(&inner)) {
-    if (why != nullptr) *why = "ContinuationOptions.newton: " + inner;
-    return false;
-  }
-  const auto fail = [&](const std::string& m) {
-    if (why != nullptr) *why = "ContinuationOptions." + m;
-    return false;
-  };
-  if (!std::isfinite(start_lambda) || start_lambda > 1.0) {
-    return fail("start_lambda must be finite and ≤ 1");
-  }
-  if (!(min_step > 0.0) || !std::isfinite(min_step)) return fail("min_step must be positive");
-  if (!(initial_step >= min_step) || !std::isfinite(initial_step)) {
-    return fail("initial_step must be finite and ≥ min_step");
-  }
-  if (!(max_step >= initial_step) || !std::isfinite(max_step)) {
-    return fail("max_step must be finite and ≥ initial_step");
-  }
-  if (!(step_growth >= 1.0) || !std::isfinite(step_growth)) return fail("step_growth must be ≥ 1");
-  if (easy_iterations < 0) return fail("easy_iterations must be ≥ 0");
-  return true;
+numerics::Problems ContinuationOptions::problems() const {
+  numerics::Problems out;
+  newton.add_problems(out, "ContinuationOptions.newton.");
+  const auto bad = [&](const char* field, const char* m) { out.add_field(std::string("ContinuationOptions.") + field, m); };
+  if (!std::isfinite(start_lambda) || start_lambda > 1.0) bad("start_lambda", "must be finite and ≤ 1");
+  if (!(min_step > 0.0) || !std::isfinite(min_step)) bad("min_step", "must be positive");
+  if (!(initial_step >= min_step) || !std::isfinite(initial_step)) bad("initial_step", "must be finite and ≥ min_step");
+  if (!(max_step >= initial_step) || !std::isfinite(max_step)) bad("max_step", "must be finite and ≥ initial_step");
+  if (!(step_growth >= 1.0) || !std::isfinite(step_growth)) bad("step_growth", "must be ≥ 1");
+  if (easy_iterations < 0) bad("easy_iterations", "must be ≥ 0");
+  return out;
 }
 
 Eigen::VectorXd clamp_reaction(const TermList& terms, const Eigen::VectorXd& x, const std::vector<int>& dofs) {
@@ -203,8 +191,8 @@ Eigen::SparseMatrix<double> free_block(const Eigen::SparseMatrix<double>& h, con
 
 NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std::vector<int>& fixed_dofs,
                            const NewtonOptions& options) {
-  std::string why;
-  if (!options.is_valid(&why)) throw std::invalid_argument("solve_static: " + why);
+  if (const numerics::Problems problems = options.problems(); !problems.empty())
+    throw std::invalid_argument("solve_static: " + problems.one_line());
   numerics::check_terms(terms, "solve_static");
   const FreeDofs free_dofs(x.size(), fixed_dofs);
   FreeDofProblem problem(terms, x, free_dofs);
@@ -219,8 +207,8 @@ NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std:
 NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, const std::vector<int>& fixed_dofs,
                                  const SetBoundary& set_boundary, const ContinuationOptions& options) {
   const auto start = Clock::now();
-  std::string why;
-  if (!options.is_valid(&why)) throw std::invalid_argument("solve_continuation: " + why);
+  if (const numerics::Problems problems = options.problems(); !problems.empty())
+    throw std::invalid_argument("solve_continuation: " + problems.one_line());
   if (!set_boundary) throw std::invalid_argument("solve_continuation: set_boundary is empty");
   numerics::check_terms(terms, "solve_continuation");
   const FreeDofs free_dofs(x.size(), fixed_dofs);

@@ -4,7 +4,8 @@
 // (numerics/newton/newton_solver.hpp), and load continuation for large loads (SPEC §3
 // "Shell": sparse direct solver, line search, safeguard against indefinite Hessians).
 //
-// The shell's Newton settings are numerics::NewtonOptions' defaults: the exact Hessian first
+// The shell's Newton settings are its preset (numerics::NewtonOptions::for_shell(), also
+// NewtonOptions{}): the exact Hessian first
 // in every iteration and the per-element PSD projection when it is not positive definite or
 // its step fails (the next iteration then starts projected); the shift μ = 0 first (or what a
 // non-positive diagonal entry demands), ×2 from 1e-8 after every failure up to 1e10, ×1/4
@@ -72,7 +73,7 @@ NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std:
 // Newton options for one load step of a continuation: the defaults with a smaller iteration
 // budget, so a load step that struggles fails fast and is halved instead of grinding on.
 [[nodiscard]] inline NewtonOptions continuation_step_defaults() {
-  NewtonOptions o;
+  NewtonOptions o = NewtonOptions::for_shell();
   o.max_iterations = 40;
   return o;
 }
@@ -91,7 +92,9 @@ struct ContinuationOptions {
   // converged steps; the warm start is then usually within Newton's quadratic basin.
   bool extrapolate = true;
 
-  [[nodiscard]] bool is_valid(std::string* why) const;
+  // Every invalid field, named "ContinuationOptions.<field>" (the Newton options' as
+  // "ContinuationOptions.newton.<field>"); empty when valid.
+  [[nodiscard]] numerics::Problems problems() const;
 };
 
 // Moves the boundary of a scene to load parameter λ: writes the fixed DOFs (and only those) of

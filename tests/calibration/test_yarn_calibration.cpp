@@ -65,7 +65,6 @@ TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
 TEST(YarnFitSettings, EveryInvalidFieldIsNamed) {
   YarnFitSettings s;
   EXPECT_TRUE(s.problems().empty());
-  EXPECT_TRUE(s.invalid_reason().empty());
   s.particles = 1;
   s.swarm_samples = 1;
   s.local_compression_nodes = 1;
@@ -77,7 +76,7 @@ TEST(YarnFitSettings, EveryInvalidFieldIsNamed) {
   EXPECT_EQ(fields, (std::vector<std::string>{"particles", "swarm_samples", "local_compression_nodes", "threads", "resume"}))
       << problems.to_string();
   EXPECT_EQ(problems.items()[0].to_string(), "particles: must be at least 2 (got 1)");
-  EXPECT_EQ(s.invalid_reason().find("particles: must be at least 2 (got 1); swarm_samples:"), 0u) << s.invalid_reason();
+  EXPECT_EQ(problems.one_line().find("particles: must be at least 2 (got 1); swarm_samples:"), 0u) << problems.one_line();
   // Without the swarm its settings do not matter.
   s.swarm = false;
   s.resume = false;

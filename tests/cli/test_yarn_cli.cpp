@@ -290,7 +290,7 @@ TEST_F(YarnCli, InvalidInputExitsTwoNamingTheFileOrOption) {
   p = yarn::to_json(params);
   p["R2"] = 2.0 * params.r1;
   write_file(dir / "r2.yaml", p.dump());
-  expect_invalid(pattern + " --params " + quoted(dir / "r2.yaml"), {"r2.yaml", "R2 must be smaller than R1"});
+  expect_invalid(pattern + " --params " + quoted(dir / "r2.yaml"), {"r2.yaml", "R2: must be smaller than R1"});
   p = yarn::to_json(params);
   p.erase("kc2");
   write_file(dir / "no_kc2.yaml", p.dump());

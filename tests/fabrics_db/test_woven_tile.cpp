@@ -56,11 +56,14 @@ TEST(WovenTile, BadOptionsAreRefused) {
   WovenTileOptions o;
   o.yarn_radius = 0.5e-3;
   o.yarn_spacing = 0.9e-3;
-  EXPECT_NE(o.check().find("at least twice the yarn radius"), std::string::npos) << o.check();
+  ASSERT_EQ(o.problems().size(), 1u) << o.problems().to_string();
+  EXPECT_EQ(o.problems().items()[0].field, "yarn_spacing");
+  EXPECT_NE(o.problems().to_string().find("at least twice the yarn radius"), std::string::npos) << o.problems().to_string();
   EXPECT_THROW(make_woven_tile(*chart, o), std::invalid_argument);
   o.yarn_spacing = 1.5e-3;
   o.vertices_per_crossing = 2;
-  EXPECT_NE(o.check().find("vertices_per_crossing"), std::string::npos);
+  EXPECT_NE(o.problems().to_string().find("vertices_per_crossing: must be at least 3"), std::string::npos)
+      << o.problems().to_string();
 }
 
 TEST(WovenTile, EveryNamedWeaveIsAValidTileWithTheChartsCrossings) {

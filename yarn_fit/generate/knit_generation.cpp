@@ -54,7 +54,8 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
   out.initial = db::make_knit_tile(chart, options.geometry);
   const double radius = options.geometry.yarn_radius;
   out.params = options.params ? *options.params : default_params({options.default_ks2, radius});
-  if (const auto why = out.params.invalid_reason()) throw std::invalid_argument("generate_knit_tile: " + *why);
+  if (const db::Problems invalid = out.params.problems(); !invalid.empty())
+    throw std::invalid_argument("generate_knit_tile: " + invalid.one_line());
 
   YarnSystem system(make_yarn_tile(out.initial.tile), out.params);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(system.dof_count());

@@ -1,4 +1,8 @@
 #pragma once
+// The rest-period relaxation (`yarnfit fit --relax-period`, ObjectiveOptions::rest_period;
+// not the rest-shape heuristic's period chord steps, RestShapeOptions::period_chord_steps,
+// which take a fixed few steps towards it as part of every rest shape).
+//
 // The rest period of a tile (HYLC's rest-state step, thesis Appendix A.2.4): the in-plane
 // period stretch E = diag(E00, E11) at which the relaxed tile carries no coarse normal
 // stress at χ = 0, so that the course and wale spacings come out of the mechanics. The rest
@@ -6,10 +10,11 @@
 // the tile's reference positions and lattice are mapped by I + E (transformed_tile).
 //
 // The rest period minimises the tile's energy W(E) = min_g E(g; E), whose gradient is the
-// coarse stress (A P_ii / (1 + E_ii), A the current area): Newton steps on W with a
-// forward-difference Hessian (two extra equilibria per step), shifted until positive
-// definite where W is not convex, capped at max_step per component and halved until W
-// decreases (Armijo), each equilibrium warm-started from the last accepted state. (Newton on
+// coarse stress (A P_ii / (1 + E_ii), A the current area): Newton steps on W
+// (numerics/newton/few_dof_newton.hpp) with a forward-difference Hessian (two extra
+// equilibria per step), shifted until positive definite where W is not convex, capped at
+// max_step per component and halved until W decreases (Armijo), each equilibrium
+// warm-started from the last accepted state. (Newton on
 // P(E) = 0 with a max-norm merit stalled on the acrylic stockinette: its Jacobian was
 // indefinite at +25 % while the rest stress was still −3000 N/m.) The shear E01 is not relaxed (the generated charts
 // are mirror-symmetric, so their rest shear stress vanishes by symmetry; rest_shape.hpp says

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <Eigen/LU>
+
+#include "numerics/roots/chord_newton.hpp"
 
 #include "numerics/util/clock.hpp"
 
@@ -44,63 +45,73 @@ Eigen::Vector3d stress_coordinates(const Eigen::Matrix2d& p) {
   return {p(0, 0), p(1, 1), 0.5 * (p(0, 1) + p(1, 0))};
 }
 
-// Solves P(E) = 0 for the period stretch E by chord Newton with a forward-difference ∂P/∂E
-// taken once at E = 0. Each evaluation re-equilibrates the tile at χ = 0 from the current g.
-// Unknowns: E00 and E11, and E01 only with `period_shear` (see RestShapeOptions).
-void relax_period(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions& options,
-                  RestShapeResult& out) {
-  const YarnTile base = system.tile();
-  const int n = options.period_shear ? 3 : 2;
-  const auto strain = [&](const Eigen::VectorXd& e) {
+// The coarse rest stress P(E) at χ = 0 as a function of the period stretch E's coordinates
+// (E00, E11, and E01 only with `period_shear`), for numerics' chord Newton: every evaluation
+// re-equilibrates the tile from the best state so far.
+class RestStressOfPeriod final : public numerics::ChordNewtonProblem {
+ public:
+  RestStressOfPeriod(YarnSystem& system, const Eigen::VectorXd& g, const RestShapeOptions& options, RestShapeResult& out)
+      : m_system(system), m_base(system.tile()), m_n(options.period_shear ? 3 : 2), m_options(options), m_out(out),
+        m_best_g(g), m_best_solve(out.last_solve) {}
+
+  bool evaluate(const Eigen::VectorXd& e, Eigen::VectorXd& p) override {
+    m_system.set_tile(transformed_tile(m_base, Eigen::Matrix2d::Identity() + strain(e)));
+    m_system.set_deformation(CoarseDeformation{});
+    m_state = m_best_g;
+    m_solve = solve_equilibrium(m_system, m_state, m_options.solve);
+    m_out.newton_iterations += m_solve.iterations;
+    p = stress_coordinates(m_system.coarse_stress(m_state)).head(m_n);
+    return m_solve.converged();
+  }
+  void keep() override {
+    m_best_g = m_state;
+    m_best_solve = m_solve;
+  }
+
+  [[nodiscard]] int size() const { return m_n; }
+  [[nodiscard]] const YarnTile& base() const { return m_base; }
+  [[nodiscard]] Eigen::Matrix2d strain(const Eigen::VectorXd& e) const {
     Eigen::Vector3d full = Eigen::Vector3d::Zero();
-    full.head(n) = e;
+    full.head(m_n) = e;
     return strain_of(full);
-  };
-  const auto evaluate = [&](const Eigen::VectorXd& e, Eigen::VectorXd& state, EquilibriumResult& solve) {
-    system.set_tile(transformed_tile(base, Eigen::Matrix2d::Identity() + strain(e)));
-    system.set_deformation(CoarseDeformation{});
-    solve = solve_equilibrium(system, state, options.solve);
-    out.newton_iterations += solve.iterations;
-    return Eigen::VectorXd(stress_coordinates(system.coarse_stress(state)).head(n));
-  };
-  const auto restore_base = [&] {  // keep the rounds' state; rest_stress says what is left
-    system.set_tile(base);
-    system.set_deformation(CoarseDeformation{});
-  };
-  const Eigen::VectorXd p0 = stress_coordinates(out.rest_stress).head(n);
-  constexpr double h = 1e-3;
-  Eigen::MatrixXd jacobian(n, n);
-  for (int k = 0; k < n; ++k) {
-    Eigen::VectorXd state = g;
-    EquilibriumResult solve;
-    const Eigen::VectorXd pk = evaluate(h * Eigen::VectorXd::Unit(n, k), state, solve);
-    if (!solve.converged()) return restore_base();
-    jacobian.col(k) = (pk - p0) / h;
   }
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(jacobian);
-  if (!lu.isInvertible()) return restore_base();
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), p = p0;
-  Eigen::VectorXd best_g = g, best_e = e;
-  double best = p0.cwiseAbs().maxCoeff();
-  EquilibriumResult best_solve = out.last_solve;
-  for (int it = 0; it < options.period_iterations; ++it) {
-    e = (e - lu.solve(p)).cwiseMax(-options.max_period_change).cwiseMin(options.max_period_change);
-    Eigen::VectorXd state = best_g;
-    EquilibriumResult solve;
-    p = evaluate(e, state, solve);
-    if (!solve.converged()) break;
-    if (p.cwiseAbs().maxCoeff() < best) {
-      best = p.cwiseAbs().maxCoeff();
-      best_e = e;
-      best_g = state;
-      best_solve = solve;
-    }
+  [[nodiscard]] const Eigen::VectorXd& best_g() const { return m_best_g; }
+  [[nodiscard]] const EquilibriumResult& best_solve() const { return m_best_solve; }
+
+ private:
+  YarnSystem& m_system;
+  const YarnTile m_base;
+  const int m_n;
+  const RestShapeOptions& m_options;
+  RestShapeResult& m_out;
+  Eigen::VectorXd m_best_g, m_state;
+  EquilibriumResult m_best_solve, m_solve;
+};
+
+// The rest-shape heuristic's period chord steps (RestShapeOptions::period_chord_steps): P(E)
+// = 0 by chord Newton with a forward-difference ∂P/∂E taken once at E = 0, the best of its
+// steps kept. When ∂P/∂E cannot be had, the tile keeps the rounds' period.
+void period_chord_steps(YarnSystem& system, Eigen::VectorXd& g, const RestShapeOptions& options,
+                        RestShapeResult& out) {
+  RestStressOfPeriod stress(system, g, options, out);
+  numerics::ChordNewtonOptions chord;
+  chord.steps = options.period_chord_steps;
+  chord.max_abs = options.max_period_change;
+  chord.jacobian_step = 1e-3;
+  const int n = stress.size();
+  const numerics::ChordNewtonResult r =
+      numerics::chord_newton(stress, Eigen::VectorXd::Zero(n), stress_coordinates(out.rest_stress).head(n), chord);
+  if (r.status == numerics::ChordNewtonStatus::jacobian_failed) {
+    // Keep the rounds' state; rest_stress says what is left.
+    system.set_tile(stress.base());
+    system.set_deformation(CoarseDeformation{});
+    return;
   }
-  system.set_tile(transformed_tile(base, Eigen::Matrix2d::Identity() + strain(best_e)));
+  system.set_tile(transformed_tile(stress.base(), Eigen::Matrix2d::Identity() + stress.strain(r.x)));
   system.set_deformation(CoarseDeformation{});
-  g = best_g;
-  out.last_solve = best_solve;
-  out.period_stretch = strain(best_e);
+  g = stress.best_g();
+  out.last_solve = stress.best_solve();
+  out.period_stretch = stress.strain(r.x);
   out.rest_stress = system.coarse_stress(g);
 }
 
@@ -130,7 +141,7 @@ RestShapeResult relax_rest_shape(YarnSystem& system, Eigen::VectorXd& g, const R
   out.converged = out.last_solve.converged();
   out.rest_stress = system.coarse_stress(g);
   out.stress_before_period = out.rest_stress;
-  if (options.relax_period && out.converged) relax_period(system, g, options, out);
+  if (options.period_chord_steps > 0 && out.converged) period_chord_steps(system, g, options, out);
   const YarnTile& tile = system.tile();
   for (std::size_t e = 0; e < tile.edges.size(); ++e)
     out.max_length_change = std::max(out.max_length_change,

@@ -8,18 +8,19 @@
 
 namespace yarnfit::yarn {
 
-std::optional<std::string> YarnParams::invalid_reason() const {
+db::Problems YarnParams::problems() const {
+  db::Problems out;
   const std::array<std::pair<const char*, double>, 7> positive{
       {{"ks1", ks1}, {"kb", kb}, {"R1", r1}, {"kc1", kc1}, {"ks2", ks2}, {"kc2", kc2}, {"R2", r2}}};
   for (const auto& [key, value] : positive) {
     if (!std::isfinite(value) || value <= 0.0)
-      return std::string(key) + " must be a finite value > 0, got " + std::to_string(value);
+      out.add_field(key, "must be a finite value > 0, got " + std::to_string(value));
   }
   if (!std::isfinite(eps_s) || eps_s < 0.0)
-    return "eps_s must be a finite value >= 0, got " + std::to_string(eps_s);
-  if (ks1 > ks2) return "ks1 must not exceed ks2 (the stiff phase is the stiffer one)";
-  if (r2 >= r1) return "R2 must be smaller than R1 (the stiff barrier is the inner one)";
-  return std::nullopt;
+    out.add_field("eps_s", "must be a finite value >= 0, got " + std::to_string(eps_s));
+  if (ks1 > ks2) out.add_field("ks1", "must not exceed ks2 (the stiff phase is the stiffer one)");
+  if (r2 >= r1) out.add_field("R2", "must be smaller than R1 (the stiff barrier is the inner one)");
+  return out;
 }
 
 const char* to_string(YarnParam p) {
@@ -148,8 +149,8 @@ std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
     *target = value;
   }
   if (problems.size() != before) return std::nullopt;
-  if (const auto reason = p.invalid_reason()) {
-    problems.add(label, root.Mark().line + 1, "params", *reason);
+  if (const db::Problems invalid = p.problems(); !invalid.empty()) {
+    for (const auto& q : invalid.items()) problems.add(label, root.Mark().line + 1, q.field, q.message);
     return std::nullopt;
   }
   return p;

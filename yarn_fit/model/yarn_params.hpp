@@ -30,8 +30,8 @@ struct YarnParams {
   double r2 = 0.0;     // stiff contact radius R2 [m]
 
   // Empty when every value is finite and in its physical domain (stiffnesses and radii
-  // > 0, ε̄s ≥ 0, ks1 ≤ ks2, R2 < R1); otherwise the first violated rule, naming the key.
-  [[nodiscard]] std::optional<std::string> invalid_reason() const;
+  // > 0, ε̄s ≥ 0, ks1 ≤ ks2, R2 < R1); otherwise every violated rule, under its key.
+  [[nodiscard]] db::Problems problems() const;
 };
 
 // One field of YarnParams, for derivatives with respect to the parameters (the fit's

@@ -19,7 +19,8 @@ std::vector<YarnTermKind> all_yarn_terms() { return {YarnTermKind::stretch, Yarn
 
 YarnSystem::YarnSystem(YarnTile tile, const YarnParams& params, std::vector<YarnTermKind> terms)
     : m_tile(std::move(tile)), m_kinds(std::move(terms)), m_map(CoarseDeformation{}) {
-  if (const auto reason = params.invalid_reason()) throw std::invalid_argument("yarn parameters: " + *reason);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    throw std::invalid_argument("yarn parameters: " + invalid.one_line());
   m_params = params;
   m_placement.update(m_tile, m_map);
   build_constraints();
@@ -82,7 +83,8 @@ std::vector<std::string> YarnSystem::effects() const {
 }
 
 void YarnSystem::set_params(const YarnParams& params) {
-  if (const auto reason = params.invalid_reason()) throw std::invalid_argument("yarn parameters: " + *reason);
+  if (const db::Problems invalid = params.problems(); !invalid.empty())
+    throw std::invalid_argument("yarn parameters: " + invalid.one_line());
   m_params = params;
   for (const auto& term : m_terms) term->set_params(params);
   m_candidates.invalidate();

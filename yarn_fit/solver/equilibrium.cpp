@@ -70,45 +70,13 @@ class EquilibriumProblem final : public numerics::NewtonProblem {
 }  // namespace
 
 numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, const EquilibriumOptions& options) {
-  numerics::NewtonOptions o;
+  numerics::NewtonOptions o = numerics::NewtonOptions::for_yarn_tile();
   o.max_iterations = options.max_iterations;
   o.tolerance = options.force_tolerance > 0.0 ? options.force_tolerance : 1e-9 * system.params().ks2;
   o.time_limit_s = options.time_limit_s;
   o.loose_tolerance = options.loose_tolerance;
   o.loose_after = options.loose_after;
   o.readout_tolerance = options.stress_tolerance < 0.0 ? default_stress_tolerance(system) : options.stress_tolerance;
-  // The exact Hessian gives quadratic convergence near equilibrium, where it is positive
-  // definite on the constraint space; the per-element PSD projection is the safeguard when
-  // it is not (far from equilibrium, or at an unstable state). Projected-only Newton
-  // converges linearly when some elements are indefinite at the solution (edges in
-  // compression, barrier curvature). Every iteration starts from the exact Hessian.
-  o.project_psd = true;
-  o.exact_hessian_first = true;
-  o.remember_projection = false;
-  o.project_after_failed_line_search = false;
-  // An indefinite exact Hessian is first shifted (Levenberg): the shifted step still follows
-  // the directions of negative curvature out of a saddle, where the per-element projection
-  // would discard them and creep, converging linearly. A shift beyond 1e-3 of the mean
-  // diagonal falls back to the projection, which takes longer steps far from equilibrium
-  // (the limit chosen by measurement: docs/slack-tiles.md).
-  o.shift_initial = 1e-8;
-  o.exact_shift_limit = 1e-3;
-  o.exact_shift_growth = 10.0;
-  o.exact_shift_floor = 1e-6;
-  o.shift_growth = 100.0;
-  o.shift_max = 1e2;
-  o.fail_beyond_shift_max = false;
-  o.max_failed_attempts = 8;
-  o.shift_shrink = 0.25;
-  o.shift_floor = 1e-10;
-  o.limited_step_growth = 4.0;
-  o.shift_past_nonpositive_diagonal = false;
-  // The tile's Hessian is indefinite along a yarn sliding through itself against the tile,
-  // which the constraints forbid: positive definite on them is enough for the exact step.
-  o.accept_definite_on_constraints = true;
-  o.precision_floor = numerics::PrecisionFloor::predicted_decrease;
-  o.floor_residual_factor = 1.0;
-  o.roundoff_converged_factor = 1e3;
   return o;
 }
 

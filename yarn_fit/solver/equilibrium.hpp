@@ -3,9 +3,9 @@
 //
 //   min_g E(g)  s.t.  C g = 0,
 //
-// solved by the one Newton solver (numerics/newton/newton_solver.hpp) with the yarn's
-// settings: the KKT step by a Schur complement on the few constraint rows; the exact Hessian
-// first, shifted by up to 1e-3 of its mean diagonal before the per-element PSD projection
+// solved by the one Newton solver (numerics/newton/newton_solver.hpp) with the yarn tile's
+// preset (NewtonPolicy::yarn_tile()): the KKT step by a Schur complement on the few
+// constraint rows; the exact Hessian first, shifted by up to 1e-3 of its mean diagonal before the per-element PSD projection
 // replaces it; a shift that adapts (×1/4 after a full step, ×4 after a cut one, ×100 after a
 // failure) between 1e-10 and 1e2 of the mean diagonal, which plays the role of the thesis's
 // decaying α̂; at most 8 failed attempts per iteration. Steps are limited so that no vertex
@@ -64,8 +64,8 @@ struct EquilibriumResult : numerics::NewtonSummary {
   int contact_rebuilds = 0;
 };
 
-// The Newton settings solve_equilibrium uses for these options and this system (tolerance,
-// step cap in metres and the yarn's shift policy).
+// The Newton settings solve_equilibrium uses for these options and this system: the yarn
+// tile's preset with these budgets and tolerances.
 numerics::NewtonOptions equilibrium_newton_options(const YarnSystem& system, const EquilibriumOptions& options);
 
 // Relaxes `g` in place (a warm start is whatever `g` holds; zeros = the affine state).

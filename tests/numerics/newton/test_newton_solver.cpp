@@ -70,26 +70,6 @@ class TermsProblem final : public NewtonProblem {
   int m_n;
 };
 
-// The yarn's settings of the same solver, as yarn_fit/solver/equilibrium.cpp sets them.
-NewtonOptions yarn_like_options() {
-  NewtonOptions o;
-  o.remember_projection = false;
-  o.project_after_failed_line_search = false;
-  o.shift_initial = 1e-8;
-  o.exact_shift_limit = 1e-3;
-  o.shift_growth = 100.0;
-  o.shift_max = 1e2;
-  o.fail_beyond_shift_max = false;
-  o.max_failed_attempts = 8;
-  o.shift_floor = 1e-10;
-  o.limited_step_growth = 4.0;
-  o.shift_past_nonpositive_diagonal = false;
-  o.precision_floor = PrecisionFloor::predicted_decrease;
-  o.floor_residual_factor = 1.0;
-  o.roundoff_converged_factor = 1e3;
-  return o;
-}
-
 TEST(NewtonSolver, QuadraticConvergesInOneStep) {
   const int n = 6;
   Eigen::MatrixXd m = Eigen::MatrixXd::Random(n, n);
@@ -98,7 +78,7 @@ TEST(NewtonSolver, QuadraticConvergesInOneStep) {
   const QuadraticTerm term(a, c);
   TermsProblem problem(terms_of({&term}), n);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions::for_shell());
   ASSERT_TRUE(s.converged()) << s.brief();
   EXPECT_EQ(s.iterations, 1) << s.brief();
   EXPECT_EQ(s.regularised_steps, 0);
@@ -118,9 +98,9 @@ TEST(NewtonSolver, IndefiniteDoubleWellIsSafeguardedByTheShift) {
     Eigen::VectorXd x(6);
     x << 0.05, -0.02, 0.01, 0.08, -0.04, 0.0;
     TermsProblem problem(terms_of({&term}), 6);
-    NewtonOptions options = yarn_like ? yarn_like_options() : NewtonOptions{};
+    NewtonOptions options = yarn_like ? NewtonOptions::for_yarn_tile() : NewtonOptions::for_shell();
     options.tolerance = 1e-12;
-    options.project_psd = false;
+    options.policy.project_psd = false;
     const NewtonSummary s = solve_newton(problem, x, options);
     ASSERT_TRUE(s.converged()) << s.brief();
     std::cout << "[ double well" << (yarn_like ? ", yarn settings" : "") << " ] " << s.brief() << "\n";
@@ -139,7 +119,7 @@ TEST(NewtonSolver, LineSearchNeverStepsIntoTheInfiniteRegion) {
     TermsProblem problem(terms_of({&term}), 3);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(3);
     x(1) = -2.0;
-    NewtonOptions options = yarn_like ? yarn_like_options() : NewtonOptions{};
+    NewtonOptions options = yarn_like ? NewtonOptions::for_yarn_tile() : NewtonOptions::for_shell();
     options.tolerance = 1e-10;
     const NewtonSummary s = solve_newton(problem, x, options);
     ASSERT_TRUE(s.converged()) << s.brief();
@@ -154,7 +134,7 @@ TEST(NewtonSolver, InvalidStartIsReportedAndLeavesXUnchanged) {
   Eigen::VectorXd x = Eigen::VectorXd::Constant(2, 0.5);
   x(1) = 1.5;
   const Eigen::VectorXd start = x;
-  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions::for_shell());
   EXPECT_EQ(s.status, NewtonStatus::invalid_start);
   EXPECT_FALSE(s.converged());
   EXPECT_EQ(s.iterations, 0);
@@ -168,7 +148,7 @@ TEST(NewtonSolver, MaxIterationsKeepsTheLastValidIterateAndRosenbrockConvergesEi
   TermsProblem problem(terms_of({&term}), 2);
   Eigen::VectorXd x(2);
   x << -1.2, 1.0;
-  NewtonOptions options;
+  NewtonOptions options = NewtonOptions::for_shell();
   options.max_iterations = 3;
   const NewtonSummary s = solve_newton(problem, x, options);
   EXPECT_EQ(s.status, NewtonStatus::max_iterations);
@@ -179,9 +159,9 @@ TEST(NewtonSolver, MaxIterationsKeepsTheLastValidIterateAndRosenbrockConvergesEi
   for (const bool yarn_like : {false, true}) {
     for (const bool project : {true, false}) {
       x << -1.2, 1.0;
-      options = yarn_like ? yarn_like_options() : NewtonOptions{};
+      options = yarn_like ? NewtonOptions::for_yarn_tile() : NewtonOptions::for_shell();
       options.tolerance = 1e-10;
-      options.project_psd = project;
+      options.policy.project_psd = project;
       const NewtonSummary full = solve_newton(problem, x, options);
       ASSERT_TRUE(full.converged()) << full.brief();
       std::cout << "[ rosenbrock, " << (yarn_like ? "yarn" : "shell") << " settings, project_psd " << project
@@ -196,7 +176,7 @@ TEST(NewtonSolver, NonFiniteGradientIsReportedNotPassedOn) {
   const NanGradientTerm term;
   TermsProblem problem(terms_of({&term}), 2);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(2);
-  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions::for_shell());
   EXPECT_EQ(s.status, NewtonStatus::non_finite) << s.brief();
   EXPECT_TRUE(x.allFinite());
   EXPECT_TRUE(std::isfinite(s.energy));
@@ -218,7 +198,7 @@ TEST(NewtonSolver, ConstrainedQuadraticReachesTheKktSolutionAndStaysFeasible) {
   const Eigen::MatrixXd projector =
       Eigen::MatrixXd::Identity(n, n) - C.transpose() * (C * C.transpose()).inverse() * C;
   Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 0.7);  // infeasible start: projected first
-  NewtonOptions options = yarn_like_options();  // never below a shift of 1e-10: a few steps
+  NewtonOptions options = NewtonOptions::for_yarn_tile();  // never below a shift of 1e-10: a few steps
   options.tolerance = 1e-13;
   const NewtonSummary s = solve_newton(problem, x, options);
   ASSERT_TRUE(s.converged()) << s.brief();
@@ -238,7 +218,7 @@ TEST(NewtonSolver, StepBoundLimitsEveryStepAndStillConverges) {
   TermsProblem problem(terms_of({&term}), n);
   problem.m_cap = 0.1;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  const NewtonSummary s = solve_newton(problem, x, NewtonOptions{});
+  const NewtonSummary s = solve_newton(problem, x, NewtonOptions::for_shell());
   ASSERT_TRUE(s.converged()) << s.brief();
   EXPECT_GE(s.iterations, 20);
   EXPECT_LE(s.iterations, 22);
@@ -251,7 +231,7 @@ TEST(NewtonSolver, LooseToleranceEndsASlowSolveVisibly) {
   problem.m_cap = 1e-3;  // creeping steps
   Eigen::VectorXd x(2);
   x << -1.2, 1.0;
-  NewtonOptions options = yarn_like_options();
+  NewtonOptions options = NewtonOptions::for_yarn_tile();
   options.loose_after = 5;
   options.loose_tolerance = 1e3;
   const NewtonSummary s = solve_newton(problem, x, options);
@@ -262,17 +242,20 @@ TEST(NewtonSolver, LooseToleranceEndsASlowSolveVisibly) {
 }
 
 TEST(NewtonSolver, OptionsListEveryProblem) {
-  NewtonOptions options;
-  EXPECT_TRUE(options.problems().empty());
-  options.shift_growth = 1.0;
-  options.armijo = 0.7;
-  options.max_line_search_steps = 0;
-  const auto found = options.problems();
+  for (const NewtonOptions& preset :
+       {NewtonOptions::for_shell(), NewtonOptions::for_shell_unprojected(), NewtonOptions::for_yarn_tile()})
+    EXPECT_TRUE(preset.problems().empty()) << preset.problems().to_string();
+  NewtonOptions options = NewtonOptions::for_shell();
+  options.policy.shift_growth = 1.0;
+  options.policy.armijo = 0.7;
+  options.policy.max_line_search_steps = 0;
+  const Problems found = options.problems();
   ASSERT_EQ(found.size(), 3u);
-  std::string why;
-  EXPECT_FALSE(options.is_valid(&why));
-  for (const char* field : {"shift_growth", "armijo", "max_line_search_steps"})
-    EXPECT_NE(why.find(field), std::string::npos) << why;
+  std::vector<std::string> fields;
+  for (const auto& p : found.items()) fields.push_back(p.field);
+  EXPECT_EQ(fields, (std::vector<std::string>{"NewtonOptions.policy.max_line_search_steps", "NewtonOptions.policy.armijo",
+                                              "NewtonOptions.policy.shift_growth"}));
+  EXPECT_NE(found.one_line().find("armijo: must be in (0, 0.5)"), std::string::npos) << found.one_line();
   const QuadraticTerm term(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2));
   TermsProblem problem(terms_of({&term}), 2);
   Eigen::VectorXd x = Eigen::VectorXd::Ones(2);
@@ -308,7 +291,7 @@ TEST(NewtonSolver, ReadoutTestEndsALinearlyConvergingSolveWithinItsTolerance) {
   const Eigen::VectorXd c = Eigen::Vector2d(0.3, -0.2);
   const double limit = c.sum();
   const double tolerance = 1e-3;
-  NewtonOptions options = yarn_like_options();
+  NewtonOptions options = NewtonOptions::for_yarn_tile();
   options.tolerance = 0.0;  // unreachable: only the read-out test can end the solve
   options.max_iterations = 400;
   options.readout_tolerance = tolerance;
@@ -337,10 +320,10 @@ TEST(NewtonSolver, ReadoutTestEndsALinearlyConvergingSolveWithinItsTolerance) {
     EXPECT_EQ(t.readout_change, 0.0);
   }
   options.readout_steps = 0;
-  EXPECT_FALSE(options.is_valid(nullptr));
+  EXPECT_FALSE(options.problems().empty());
   options.readout_steps = 3;
   options.readout_tolerance = -1.0;
-  EXPECT_FALSE(options.is_valid(nullptr));
+  EXPECT_FALSE(options.problems().empty());
 }
 
 }  // namespace
@@ -400,10 +383,10 @@ TEST(NewtonSolver, AnIndefiniteHessianDefiniteOnTheConstraintsTakesTheExactStep)
     TermsProblem problem(terms_of({&term}), 3);
     problem.m_c = q.col(2).transpose();
     x = Eigen::VectorXd::Zero(3);
-    NewtonOptions options = yarn_like_options();
+    NewtonOptions options = NewtonOptions::for_yarn_tile();
     options.tolerance = 1e-12;
     options.max_iterations = 500;
-    options.accept_definite_on_constraints = accept;
+    options.policy.accept_definite_on_constraints = accept;
     const NewtonSummary s = solve_newton(problem, x, options);
     std::cout << "[ newton  ] " << (accept ? "with" : "without") << " the inertia test: " << s.brief() << "\n";
     return s;

@@ -41,7 +41,7 @@ TEST(StaticEquilibrium, FixedDofsKeepTheirValuesExactly) {
   x << 0.123456789, 0.0, -7.5, 0.0, 0.0;
   const Eigen::VectorXd start = x;
   const std::vector<int> fixed = {0, 2, 2};  // duplicates allowed
-  const NewtonSummary s = solve_static(terms_of({&term}), x, fixed, NewtonOptions{});
+  const NewtonSummary s = solve_static(terms_of({&term}), x, fixed, NewtonOptions::for_shell());
   ASSERT_TRUE(s.converged()) << s.brief();
   EXPECT_EQ(x(0), start(0));
   EXPECT_EQ(x(2), start(2));
@@ -50,7 +50,7 @@ TEST(StaticEquilibrium, FixedDofsKeepTheirValuesExactly) {
   const Eigen::MatrixXd aff = a(f, f);
   const Eigen::VectorXd expected = c(f) - aff.ldlt().solve(a(f, cdofs) * (x(cdofs) - c(cdofs)));
   EXPECT_LT((x(f) - expected).lpNorm<Eigen::Infinity>(), 1e-12);
-  EXPECT_THROW((void)solve_static(terms_of({&term}), x, {n}, NewtonOptions{}), std::invalid_argument);
+  EXPECT_THROW((void)solve_static(terms_of({&term}), x, {n}, NewtonOptions::for_shell()), std::invalid_argument);
 }
 
 TEST(StaticEquilibrium, SpringChainReachesKnownEquilibriumAndClampReactionsHaveTheDocumentedSign) {
@@ -69,7 +69,7 @@ TEST(StaticEquilibrium, SpringChainReachesKnownEquilibriumAndClampReactionsHaveT
     x(2 * v + 1) = (v == 0 || v == n) ? 0.0 : 0.3 * (v % 2 == 0 ? 1 : -1);
   }
   const std::vector<int> fixed = vertex_dofs({0, n}, 2);
-  NewtonOptions options;
+  NewtonOptions options = NewtonOptions::for_shell();
   options.tolerance = 1e-12;
   const NewtonSummary s = solve_static(terms_of({&term}), x, fixed, options);
   ASSERT_TRUE(s.converged()) << s.brief();
@@ -107,9 +107,9 @@ TEST(StaticEquilibrium, CompressedSpringChainBucklesWithAndWithoutProjection) {
       x(2 * v) = 0.5 * v;
       x(2 * v + 1) = (v == 0 || v == n) ? 0.0 : 1e-3 * std::sin(1.3 * v);
     }
-    NewtonOptions options;
+    NewtonOptions options = NewtonOptions::for_shell();
     options.tolerance = 1e-10;
-    options.project_psd = project;
+    options.policy.project_psd = project;
     const NewtonSummary s = solve_static(terms_of({&term}), x, vertex_dofs({0, n}, 2), options);
     ASSERT_TRUE(s.converged()) << "project_psd " << project << ": " << s.brief();
     std::cout << "[ buckling chain, project_psd " << project << " ] " << s.brief() << "\n";
@@ -122,28 +122,29 @@ TEST(StaticEquilibrium, CompressedSpringChainBucklesWithAndWithoutProjection) {
 }
 
 TEST(StaticEquilibrium, RejectsInvalidOptionsAndArguments) {
-  NewtonOptions options;
-  std::string why;
-  EXPECT_TRUE(options.is_valid(&why));
-  options.shift_growth = 1.0;
-  EXPECT_FALSE(options.is_valid(&why));
-  EXPECT_NE(why.find("shift_growth"), std::string::npos) << why;
+  NewtonOptions options = NewtonOptions::for_shell();
+  EXPECT_TRUE(options.problems().empty()) << options.problems().to_string();
+  options.policy.shift_growth = 1.0;
+  EXPECT_FALSE(options.problems().empty());
+  EXPECT_NE(options.problems().to_string().find("shift_growth"), std::string::npos) << options.problems().to_string();
   const QuadraticTerm term(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2));
   Eigen::VectorXd x = Eigen::VectorXd::Ones(2);
   EXPECT_THROW((void)solve_static(terms_of({&term}), x, {}, options), std::invalid_argument);
-  EXPECT_THROW((void)solve_static({}, x, {}, NewtonOptions{}), std::invalid_argument);
-  EXPECT_THROW((void)solve_static(terms_of({nullptr}), x, {}, NewtonOptions{}), std::invalid_argument);
+  EXPECT_THROW((void)solve_static({}, x, {}, NewtonOptions::for_shell()), std::invalid_argument);
+  EXPECT_THROW((void)solve_static(terms_of({nullptr}), x, {}, NewtonOptions::for_shell()), std::invalid_argument);
   ContinuationOptions copt;
-  EXPECT_TRUE(copt.is_valid(&why)) << why;
+  EXPECT_TRUE(copt.problems().empty()) << copt.problems().to_string();
   copt.min_step = 0.0;
-  EXPECT_FALSE(copt.is_valid(&why));
-  EXPECT_NE(why.find("min_step"), std::string::npos) << why;
+  copt.newton.tolerance = -1.0;
+  const std::string why = copt.problems().to_string();
+  EXPECT_NE(why.find("ContinuationOptions.min_step: must be positive"), std::string::npos) << why;
+  EXPECT_NE(why.find("ContinuationOptions.newton.tolerance: "), std::string::npos) << why;
 }
 
 TEST(StaticEquilibrium, AllFixedIsConvergedAtOnce) {
   const QuadraticTerm term(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2));
   Eigen::VectorXd x = Eigen::VectorXd::Ones(2);
-  const NewtonSummary s = solve_static(terms_of({&term}), x, {0, 1}, NewtonOptions{});
+  const NewtonSummary s = solve_static(terms_of({&term}), x, {0, 1}, NewtonOptions::for_shell());
   EXPECT_TRUE(s.converged());
   EXPECT_EQ(s.iterations, 0);
   EXPECT_EQ(x, Eigen::VectorXd::Ones(2));
@@ -163,7 +164,7 @@ TEST(Continuation, CompressingABarrierChainNeedsCutBacks) {
 
   Eigen::VectorXd one_step = rest;
   set_boundary(1.0, one_step);
-  const NewtonSummary direct = solve_static(terms_of({&term}), one_step, fixed, NewtonOptions{});
+  const NewtonSummary direct = solve_static(terms_of({&term}), one_step, fixed, NewtonOptions::for_shell());
   EXPECT_FALSE(direct.converged());
   EXPECT_EQ(direct.status, NewtonStatus::invalid_start) << direct.brief();
 

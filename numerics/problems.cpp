@@ -1,6 +1,6 @@
-#include "fabrics_db/problems.hpp"
+#include "numerics/problems.hpp"
 
-namespace yarnfit::db {
+namespace yarnfit::numerics {
 
 std::string Problem::to_string() const {
   std::string out = file;
@@ -18,10 +18,20 @@ void Problems::append(const Problems& other) {
   m_items.insert(m_items.end(), other.m_items.begin(), other.m_items.end());
 }
 
+void Problems::append(const Problems& other, const std::string& prefix) {
+  for (const auto& p : other.m_items) add(p.file, p.line, prefix + p.field, p.message);
+}
+
 std::string Problems::to_string() const {
   std::string out;
   for (const auto& p : m_items) out += p.to_string() + "\n";
   return out;
 }
 
-}  // namespace yarnfit::db
+std::string Problems::one_line() const {
+  std::string out;
+  for (const auto& p : m_items) out += (out.empty() ? "" : "; ") + p.to_string();
+  return out;
+}
+
+}  // namespace yarnfit::numerics
