@@ -39,7 +39,8 @@ int run_weave_make(const TileMakeArgs& a) {
   db::WovenTileOptions o;
   o.yarn_spacing = 1e-3 * a.yarn_spacing_mm;
   o.yarn_radius = 1e-3 * a.yarn_radius_mm;
-  for (const auto& p : o.problems().items()) problems.push_back("--yarn-spacing-mm / --yarn-radius-mm: " + p.to_string());
+  const db::Problems weave = o.problems();
+  for (const auto& p : weave.items()) problems.push_back("--yarn-spacing-mm / --yarn-radius-mm: " + p.to_string());
   if (std::filesystem::exists(a.out) && !a.force) problems.push_back(a.out + ": exists (pass --force to replace it)");
   if (!problems.empty()) {
     for (const auto& p : problems) std::cerr << "tile make: " << p << "\n";
@@ -95,7 +96,8 @@ int run_tile_make(const TileMakeArgs& a) {
     if (params) o.params = *params;
   }
   if (problems.empty()) {
-    for (const auto& p : o.geometry.problems().items()) problems.push_back(p.to_string());
+    const db::Problems geometry = o.geometry.problems();
+    for (const auto& p : geometry.items()) problems.push_back(p.to_string());
   }
   if (!problems.empty()) {
     for (const auto& p : problems) std::cerr << "tile make: " << p << "\n";

@@ -12,7 +12,7 @@ shell::ShellFitOptions shell_options(const FitRequest& r, db::Problems& problems
   else problems.add("", 0, "shell_model", r.shell_model + ": not a shell model (stiffening or thesis)");
   o.mesh = r.mesh_mm * 1e-3;
   o.refinements = r.refinements;
-  o.threads = r.threads == 0 ? 2 : r.threads;
+  o.threads = r.shell_threads ? *r.shell_threads : r.threads > 0 ? r.threads : 2;
   o.max_iterations = r.max_iterations;
   o.full_range = r.full_range;
   return o;

@@ -52,9 +52,12 @@ struct FitRequest {
   std::filesystem::path checkpoint;  // the yarn fit's checkpoint file
   bool resume = false;               // continue from `checkpoint`
 
-  // Threads of both stages: the shell stage's test directions (0: 2) and the yarn stage's
+  // Threads of both stages: the shell stage's test directions (≤ 0: 2) and the yarn stage's
   // OpenMP threads (0: OpenMP's default).
   int threads = 0;
+  // The shell stage's test directions when given on their own (`shell fit --threads`), checked
+  // as given (1–64).
+  std::optional<int> shell_threads;
 };
 
 // The stages' settings for `request`; every name it cannot use is a problem (field named as

@@ -145,8 +145,8 @@ Guess guess_from_data(const db::Fabric& fabric, const InplaneParams& inplane, co
     if (search_failed) {
       out.fallbacks.push_back(std::string(db::to_string(dir)) + " test (" + k_bending_names[slot] +
                               "): start search failed, the pear loop did not reach equilibrium at bending length " +
-                              numerics::format_number(*bracket.failed_at * 1e3) + " mm; started from " +
-                              numerics::format_number(ell_start * 1e3) + " mm instead of the data's match");
+                              numerics::format_number(*bracket.failed_at * 1e3, 4) + " mm; started from " +
+                              numerics::format_number(ell_start * 1e3, 4) + " mm instead of the data's match");
     }
   }
   tie_unmeasured(out.params, out.measured);
@@ -380,7 +380,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     result.not_identified.push_back(std::string(k_bending_names[h]) + ": no " +
                                     std::string(db::to_string(static_cast<db::Direction>(h))) +
                                     " bending test (held at the geometric mean of the fitted k_theta: " +
-                                    numerics::format_number(result.params.ktheta[idx(h)]) + " N*m)");
+                                    numerics::format_number(result.params.ktheta[idx(h)], 4) + " N*m)");
   }
   for (std::size_t j = 0; j < free.size(); ++j)
     result.bounds[k_bending_names[free[j]]] = {std::exp(q_lo[j]), std::exp(q_hi[j])};

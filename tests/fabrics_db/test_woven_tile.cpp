@@ -57,7 +57,9 @@ TEST(WovenTile, BadOptionsAreRefused) {
   o.yarn_radius = 0.5e-3;
   o.yarn_spacing = 0.9e-3;
   ASSERT_EQ(o.problems().size(), 1u) << o.problems().to_string();
-  EXPECT_EQ(o.problems().items()[0].field, "yarn_spacing");
+  const auto problems = o.problems();
+  ASSERT_FALSE(problems.empty());
+  EXPECT_EQ(problems.items()[0].field, "yarn_spacing");
   EXPECT_NE(o.problems().to_string().find("at least twice the yarn radius"), std::string::npos) << o.problems().to_string();
   EXPECT_THROW(make_woven_tile(*chart, o), std::invalid_argument);
   o.yarn_spacing = 1.5e-3;
