@@ -119,7 +119,7 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
   fit->add_option("--mesh", r.mesh_mm, "Mesh cell size [mm]")->capture_default_str();
   add_shell_model_option(*fit, r.shell_model);
   fit->add_option("--refine", r.refinements, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
-  fit->add_option("--threads", r.shell_threads, "Test directions simulated in parallel (1-64)")->capture_default_str();
+  fit->add_option("--threads", r.shell_threads, "Test directions simulated in parallel (1-64, default 2)");
   fit->add_option("--max-iterations", r.max_iterations,
                   "Ceres iterations of the in-plane fit after its multi-start (1-1000)")
       ->capture_default_str();
