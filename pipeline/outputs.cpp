@@ -70,8 +70,7 @@ nlohmann::json write_shell_stage(const shell::ShellFitResult& shell, const Folde
   write("shell_fit.json", j.dump(2) + "\n");
   db::write_uniform_targets_csv(shell.targets, write.folder / "uniform_targets.csv");
   write.out.files.push_back("uniform_targets.csv");
-  write.out.text = reports::shell_fit_report(j) + "  wrote " + (write.folder / "shell_fit.json").string() +
-                   " and uniform_targets.csv\n";
+  write.out.text = reports::shell_fit_report(j);
   if (shell.usable()) write("shell_curves.csv", reports::shell_curves_csv(j));
   return j;
 }
@@ -83,8 +82,12 @@ PipelineOutputs write_outputs(const PipelineResult& result, const fs::path& fold
   if (!result.shell && !result.yarn) return out;
   fs::create_directories(folder);
   const FolderWriter write{folder, out};
+  const auto results_line = [&] { return "results in " + folder.string() + ": " + listed(out.files) + "\n"; };
   const nlohmann::json shell = result.shell ? write_shell_stage(*result.shell, write) : nlohmann::json();
-  if (!result.yarn) return out;
+  if (!result.yarn) {
+    out.text += results_line();
+    return out;
+  }
   const nlohmann::json yarn = yarn_fit_json(result, folder / "uniform_targets.csv");
   if (result.shell) {
     write("yarn_fit.json", yarn.dump(2) + "\n");
@@ -98,7 +101,7 @@ PipelineOutputs write_outputs(const PipelineResult& result, const fs::path& fold
     out.files = output_files(Stages::yarn);
     out.text = "yarn fit of " + result.fabric_id + "\n" + out.summary;
   }
-  out.text += "results in " + folder.string() + ": " + listed(out.files) + "\n";
+  out.text += results_line();
   return out;
 }
 
