@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <map>
 #include <optional>
 #include <stdexcept>
 
@@ -13,6 +14,7 @@
 #include "fabrics_db/text_util.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
+#include "results/shell_fit_file.hpp"
 
 namespace yarnfit::batch {
 
@@ -60,6 +62,7 @@ double number_at(const json& j, const char* key) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+// The yarn stage's row, from yarn_fit.json.
 std::optional<ResultRow> row_of(const fs::path& file, const std::string& stage, const std::string& fabric_id,
                                 const std::string& family) {
   std::string text, why;
@@ -72,12 +75,35 @@ std::optional<ResultRow> row_of(const fs::path& file, const std::string& stage, 
   const json& errors = j.contains("errors") ? j["errors"] : empty;
   for (const auto& c : result_columns()) {
     double v = std::numeric_limits<double>::quiet_NaN();
-    if (c == "converged") v = number_at(j, stage == "shell" ? "converged" : "ok");
+    if (c == "converged") v = number_at(j, "ok");
     else if (c == "evaluations") v = number_at(j, "evaluations");
     else if (c == "seconds") v = j.contains("timing_s") && j["timing_s"].is_object() ? number_at(j["timing_s"], "total")
                                                                                     : number_at(j, "timing_s");
     else if (errors.contains(c)) v = number_at(errors, c.c_str());
     else v = number_at(params, c.c_str());
+    row.values.push_back(v);
+  }
+  return row;
+}
+
+// The shell stage's row, from shell_fit.json: the ledger's columns take the file's names (its
+// errors and parameters); none when the file is missing or unreadable.
+std::optional<ResultRow> shell_row(const fs::path& file, const std::string& fabric_id, const std::string& family) {
+  if (!fs::exists(file)) return std::nullopt;
+  results::ShellFitFile shell;
+  try {
+    shell = results::read_shell_fit_file(file);
+  } catch (const std::runtime_error&) {
+    return std::nullopt;
+  }
+  ResultRow row{fabric_id, "shell", family, {}, results::params_json(shell.params).dump()};
+  const std::map<std::string, double> errors = results::named_errors(shell.errors);
+  for (const auto& c : result_columns()) {
+    double v = std::numeric_limits<double>::quiet_NaN();
+    if (c == "converged") v = shell.converged ? 1.0 : 0.0;
+    else if (c == "seconds") v = shell.timing_s;
+    else if (const auto e = errors.find(c); e != errors.end()) v = e->second;
+    else if (const auto p = shell.params.find(c); p != shell.params.end() && p->second) v = *p->second;
     row.values.push_back(v);
   }
   return row;
@@ -107,7 +133,7 @@ JobOutcome run_fabric_job(const JobSpec& spec, const BatchOptions& options, cons
 std::vector<ResultRow> read_result_rows(const fs::path& folder, const std::string& fabric_id,
                                         const std::string& family) {
   std::vector<ResultRow> rows;
-  if (auto r = row_of(folder / "shell_fit.json", "shell", fabric_id, family)) rows.push_back(std::move(*r));
+  if (auto r = shell_row(folder / "shell_fit.json", fabric_id, family)) rows.push_back(std::move(*r));
   if (auto r = row_of(folder / "yarn_fit.json", "yarn", fabric_id, family)) rows.push_back(std::move(*r));
   return rows;
 }

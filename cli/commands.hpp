@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reports/collection/report_data.hpp"
+#include "results/shell_fit_file.hpp"
 
 namespace yarnfit::cli {
 
@@ -62,6 +63,6 @@ int exit_code_of_writing(const std::string& out, Write&& write) {
 bool write_files(const std::string& out, const std::function<void()>& write);
 // What `shell fit` prints when it ends (reports::shell_fit_report) and where it wrote; `fit`
 // prints the same for its shell stage (cli/commands_shell.cpp).
-void print_shell_report(const nlohmann::json& shell_fit, const std::string& out);
+void print_shell_report(const results::ShellFitFile& shell_fit, const std::string& out);
 
 }  // namespace yarnfit::cli

@@ -125,7 +125,7 @@ int run_fit(const YarnFitArgs& a) {
   if (result.status == pipeline::PipelineStatus::invalid_input) return refuse(result.problems);
   pipeline::PipelineOutputs written;
   if (!write_files(a.out, [&] { written = pipeline::write_pipeline_outputs(result, a.out); })) return k_exit_internal;
-  if (!a.quiet) print_shell_report(pipeline::shell_fit_json(result), a.out);
+  if (!a.quiet) print_shell_report(pipeline::shell_fit_file(result), a.out);
   if (!a.no_report && !write_fit_report(a)) return k_exit_internal;
   if (result.status == pipeline::PipelineStatus::shell_failed) {
     std::cerr << result.message << "\n" << "fit: the shell stage failed; no yarn fit\n";

@@ -55,7 +55,7 @@ int run_shell_fit(const ShellArgs& a) {
   options.progress = progress.callback("shell fit");
   const shell::ShellFitResult fit = shell::fit_shell(*load.fabric, options);
   progress.finish();
-  nlohmann::json report;
+  results::ShellFitFile report;
   if (!write_files(a.out, [&] { report = pipeline::write_shell_outputs(fit, a.out); })) return k_exit_internal;
   if (!a.quiet) print_shell_report(report, a.out);
   if (!fit.converged()) {
@@ -152,7 +152,7 @@ bool write_files(const std::string& out, const std::function<void()>& write) {
   }
 }
 
-void print_shell_report(const nlohmann::json& shell_fit, const std::string& out) {
+void print_shell_report(const results::ShellFitFile& shell_fit, const std::string& out) {
   std::cout << reports::shell_fit_report(shell_fit) << "  wrote " << (fs::path(out) / "shell_fit.json").string()
             << " and uniform_targets.csv\n";
 }

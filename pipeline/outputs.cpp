@@ -37,10 +37,10 @@ db::Problems output_problems(const fs::path& folder, const std::vector<std::stri
   return out;
 }
 
-nlohmann::json write_shell_outputs(const shell::ShellFitResult& result, const fs::path& folder) {
+results::ShellFitFile write_shell_outputs(const shell::ShellFitResult& result, const fs::path& folder) {
   fs::create_directories(folder);
-  nlohmann::json shell = shell::to_json(result);
-  db::write_text_file_atomically(folder / "shell_fit.json", shell.dump(2) + "\n");
+  results::ShellFitFile shell = shell::to_file(result);
+  db::write_text_file_atomically(folder / "shell_fit.json", results::to_json(shell).dump(2) + "\n");
   db::write_uniform_targets_csv(result.targets, folder / "uniform_targets.csv");
   return shell;
 }
@@ -52,7 +52,7 @@ PipelineOutputs write_pipeline_outputs(const PipelineResult& result, const fs::p
     db::write_text_file_atomically(folder / name, text);
     out.files.push_back(name);
   };
-  const nlohmann::json shell = write_shell_outputs(*result.shell, folder);
+  const results::ShellFitFile shell = write_shell_outputs(*result.shell, folder);
   out.files = {"shell_fit.json", "uniform_targets.csv"};
   if (result.status == PipelineStatus::shell_failed) return out;
   write("shell_curves.csv", reports::shell_curves_csv(shell));

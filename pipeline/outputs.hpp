@@ -32,7 +32,7 @@ namespace yarnfit::pipeline {
 // A shell fit's files (SPEC §5 `yarnfit shell fit`): shell_fit.json and uniform_targets.csv,
 // in `folder` (created if needed). Returns shell_fit.json's content. Throws
 // std::runtime_error naming a file it cannot write.
-nlohmann::json write_shell_outputs(const shell::ShellFitResult& result, const std::filesystem::path& folder);
+results::ShellFitFile write_shell_outputs(const shell::ShellFitResult& result, const std::filesystem::path& folder);
 
 // What write_pipeline_outputs wrote.
 struct PipelineOutputs {

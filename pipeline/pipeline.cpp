@@ -142,9 +142,9 @@ PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const Pi
   return run(*load.fabric, options, start);
 }
 
-nlohmann::json shell_fit_json(const PipelineResult& result) {
-  if (!result.shell) throw std::logic_error("shell_fit_json: the shell stage did not run");
-  return shell::to_json(*result.shell);
+results::ShellFitFile shell_fit_file(const PipelineResult& result) {
+  if (!result.shell) throw std::logic_error("shell_fit_file: the shell stage did not run");
+  return shell::to_file(*result.shell);
 }
 
 nlohmann::json yarn_fit_json(const PipelineResult& result, const std::filesystem::path& targets_file) {

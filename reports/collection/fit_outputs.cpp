@@ -38,17 +38,24 @@ FabricOutputs read_fit_outputs(const fs::path& folder, std::vector<std::string>&
   FabricOutputs f;
   f.folder = folder;
   const std::size_t problems_before = problems.size();
-  f.shell = read_json(folder / "shell_fit.json", problems);
+  if (const fs::path file = folder / "shell_fit.json"; fs::exists(file)) {
+    try {
+      f.shell = results::read_shell_fit_file(file);
+    } catch (const std::runtime_error& e) {
+      problems.push_back(std::string(e.what()) + " (left out of the report)");
+    }
+  }
   f.yarn = read_json(folder / "yarn_fit.json", problems);
-  f.id = string_or(f.shell, "fabric", string_or(f.yarn, "fabric", folder.filename().string()));
-  f.family = string_or(f.shell, "family", string_or(f.yarn, "family", ""));
-  if (f.shell.is_object() && !f.shell.value("converged", false)) {
+  const auto non_empty = [](const std::string& s, const std::string& fallback) { return s.empty() ? fallback : s; };
+  f.id = non_empty(f.shell ? f.shell->fabric : "", string_or(f.yarn, "fabric", folder.filename().string()));
+  f.family = non_empty(f.shell ? f.shell->family : "", string_or(f.yarn, "family", ""));
+  if (f.shell && !f.shell->converged) {
     f.status = "failed";
-    f.error = "shell fit did not converge: " + string_or(f.shell, "message", "no message");
+    f.error = "shell fit did not converge: " + non_empty(f.shell->message, "no message");
   } else if (f.yarn.is_object() && !f.yarn.value("ok", false)) {
     f.status = "failed";
     f.error = "yarn fit failed: " + string_or(f.yarn, "message", "no message");
-  } else if (f.shell.is_null() && f.yarn.is_null()) {
+  } else if (!f.shell && f.yarn.is_null()) {
     f.status = "failed";
     f.error = problems.size() > problems_before ? problems.back()
                                                 : "no shell_fit.json or yarn_fit.json in " + folder.string();

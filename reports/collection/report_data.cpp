@@ -6,11 +6,13 @@
 #include <set>
 #include <sstream>
 
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::reports {
 
 using nlohmann::json;
+using results::number_or_nan;
+using results::pct_json;
 
 namespace {
 
@@ -58,20 +60,29 @@ FabricRow fabric_row(const FabricOutputs& f, const std::string& run, int run_ind
   r.status = f.status;
   r.error = f.error;
   r.outputs = &f;
-  for (std::size_t i = 0; i < k_metrics.size(); ++i) {
-    const json& stage = std::string_view(k_metrics[i].stage) == "shell" ? f.shell : f.yarn;
-    if (stage.is_object() && stage.contains("errors")) r.metrics[i] = at(stage["errors"], k_metrics[i].json_key);
+  if (f.shell) {
+    r.metrics[metric_index("shell_force_pct")] = f.shell->errors.stretch_force_pct;
+    r.metrics[metric_index("shell_compression_pct")] = f.shell->errors.compression_pct;
+    r.metrics[metric_index("shell_aspect_ratio_pct")] = f.shell->errors.bending_pct;
   }
+  for (std::size_t i = 0; i < k_metrics.size(); ++i)
+    if (std::string_view(k_metrics[i].stage) == "yarn" && f.yarn.is_object() && f.yarn.contains("errors"))
+      r.metrics[i] = at(f.yarn["errors"], k_metrics[i].json_key);
   for (std::size_t i = 0; i < k_params.size(); ++i) {
-    const json& stage = std::string_view(k_params[i].stage) == "shell" ? f.shell : f.yarn;
-    if (stage.is_object() && stage.contains("params")) r.params[i] = at(stage["params"], k_params[i].key);
+    if (std::string_view(k_params[i].stage) == "shell") {
+      if (!f.shell) continue;
+      const auto p = f.shell->params.find(k_params[i].key);
+      if (p != f.shell->params.end() && p->second) r.params[i] = *p->second;
+    } else if (f.yarn.is_object() && f.yarn.contains("params")) {
+      r.params[i] = at(f.yarn["params"], k_params[i].key);
+    }
   }
   double total = 0.0;
   bool any = false;
-  if (f.shell.is_object()) {
-    r.times[time_index("shell_inplane_s")] = f.shell.contains("inplane") ? at(f.shell["inplane"], "timing_s") : at(f.shell, "timing_s");
-    if (f.shell.contains("bending")) r.times[time_index("shell_bending_s")] = at(f.shell["bending"], "timing_s");
-    const double t = at(f.shell, "timing_s");
+  if (f.shell) {
+    r.times[time_index("shell_inplane_s")] = f.shell->inplane ? f.shell->inplane->timing_s : f.shell->timing_s;
+    if (f.shell->bending) r.times[time_index("shell_bending_s")] = f.shell->bending->timing_s;
+    const double t = f.shell->timing_s;
     if (std::isfinite(t)) total += t, any = true;
   }
   if (f.yarn.is_object() && f.yarn.contains("timing_s")) {
@@ -184,13 +195,12 @@ json report_json(const ReportData& data) {
                 {"metrics", m},       {"params", p},        {"times_s", t}};
     if (r.has_yarn() && r.outputs->yarn.contains("errors_by_direction"))
       row["yarn_errors_by_direction"] = r.outputs->yarn["errors_by_direction"];
-    if (r.has_shell() && r.outputs->shell.contains("directions")) {
+    if (r.has_shell()) {
       json dirs = json::object();
-      for (const auto& d : r.outputs->shell["directions"])
-        dirs[d.value("direction", std::string("?"))] = {
-            {"force_pct", pct_json(shell_error_pct_json(d.value("measured_force_N", json()), d.value("simulated_force_N", json())))},
-            {"compression_pct",
-             pct_json(shell_error_pct_json(d.value("measured_compression", json()), d.value("simulated_compression", json())))}};
+      for (const auto& d : r.outputs->shell->directions) {
+        const results::ShellDirectionErrors e = r.outputs->shell->direction_errors(d.direction);
+        dirs[d.direction] = {{"force_pct", pct_json(e.stretch_force_pct)}, {"compression_pct", pct_json(e.compression_pct)}};
+      }
       row["shell_errors_by_direction"] = dirs;
     }
     return row;

@@ -1,16 +1,18 @@
 #include "reports/html/report_page.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "reports/html/svg_plot.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::reports {
 
 using nlohmann::json;
+using results::number_or_nan;
 using svg::escape;
 using svg::number_label;
 
@@ -331,21 +333,27 @@ svg::XYPlot curve_plot(const char* title, const char* x_label, const char* y_lab
 }
 
 // A measured (or target) curve drawn as markers and its model as a line, in the direction's
-// colour: `data_key` and `model_key` name the arrays of one direction's JSON entry.
+// colour: `data` and `model` are one direction's curves.
 struct CurvePair {
   svg::XYPlot* plot;
-  const char* data_key;
-  const char* model_key;
+  const std::vector<double>& data;
+  const std::vector<double>& model;
   double scale;  // of the values (fractions to %)
   const char* data_label;
   const char* model_label;
 };
 
-void add_direction(const json& d, const char* x_key, double x_scale, std::initializer_list<CurvePair> pairs) {
-  const std::string dir = d.value("direction", std::string("?"));
-  const auto x = numbers(d, x_key, x_scale);
+std::vector<double> scaled(const std::vector<double>& values, double scale) {
+  std::vector<double> v;
+  for (double x : values) v.push_back(x * scale);
+  return v;
+}
+
+void add_direction(const std::string& dir, const std::vector<double>& x_values, double x_scale,
+                   std::initializer_list<CurvePair> pairs) {
+  const auto x = scaled(x_values, x_scale);
   for (const CurvePair& c : pairs) {
-    auto data = numbers(d, c.data_key, c.scale), model = numbers(d, c.model_key, c.scale);
+    auto data = scaled(c.data, c.scale), model = scaled(c.model, c.scale);
     if (!data.empty()) c.plot->series.push_back({dir + " " + c.data_label, x, data, direction_colour(dir), false, true});
     if (!model.empty())
       c.plot->series.push_back({dir + " " + c.model_label, x, model, direction_colour(dir), true, false});
@@ -353,24 +361,24 @@ void add_direction(const json& d, const char* x_key, double x_scale, std::initia
 }
 
 void shell_plots(std::ostringstream& h, const FabricRow& r) {
-  const json& s = r.outputs->shell;
-  if (!s.contains("directions")) return;
+  const results::ShellFitFile& s = *r.outputs->shell;
+  if (s.directions.empty()) return;
   svg::XYPlot force = curve_plot("Stretch test: force", "stretch s [%]", "force [N]");
   svg::XYPlot comp = curve_plot("Stretch test: lateral compression", "stretch s [%]", "compression c [%]");
-  for (const auto& d : s["directions"])
-    add_direction(d, "stretch", 100.0,
-                  {{&force, "measured_force_N", "simulated_force_N", 1.0, "measured", "shell model"},
-                   {&comp, "measured_compression", "simulated_compression", 100.0, "measured", "shell model"}});
+  for (const auto& d : s.directions)
+    add_direction(d.direction, d.stretch, 100.0,
+                  {{&force, d.measured_force_N, d.simulated_force_N, 1.0, "measured", "shell model"},
+                   {&comp, d.measured_compression, d.simulated_compression, 100.0, "measured", "shell model"}});
   force.attributes = attrs("fabric-shell-force", "fabric", r.id);
   comp.attributes = attrs("fabric-shell-compression", "fabric", r.id);
   h << svg::render(force);
   if (!comp.series.empty()) h << svg::render(comp);
-  if (s.contains("bending") && s["bending"].contains("curves")) {
+  if (s.bending) {
     svg::XYPlot b = curve_plot("Pear loop: aspect ratio", "clamp distance [mm]", "aspect ratio [–]");
     b.y_from_zero = false;
-    for (const auto& d : s["bending"]["curves"])
-      add_direction(d, "clamp_distance_m", 1e3,
-                    {{&b, "measured_aspect_ratio", "simulated_aspect_ratio", 1.0, "measured", "shell model"}});
+    for (const auto& d : s.bending->curves)
+      add_direction(d.direction, d.clamp_distance_m, 1e3,
+                    {{&b, d.measured_aspect_ratio, d.simulated_aspect_ratio, 1.0, "measured", "shell model"}});
     b.attributes = attrs("fabric-shell-bending", "fabric", r.id);
     h << svg::render(b);
   }
@@ -382,10 +390,11 @@ void yarn_plots(std::ostringstream& h, const FabricRow& r) {
   svg::XYPlot st = curve_plot("Uniform targets: stress", "stretch s [%]", "2nd Piola–Kirchhoff stress S [N/m]");
   svg::XYPlot comp = curve_plot("Uniform targets: compression", "stretch s [%]", "compression c [%]");
   for (const auto& d : y["curves"]) {
-    add_direction(d, "stretch", 100.0,
-                  {{&st, "target_S_N_per_m", "simulated_S_N_per_m", 1.0, "target", "yarn model"},
-                   {&comp, "target_compression", "simulated_compression", 100.0, "target", "yarn model"}});
     const std::string dir = d.value("direction", std::string("?"));
+    add_direction(dir, numbers(d, "stretch"), 100.0,
+                  {{&st, numbers(d, "target_S_N_per_m"), numbers(d, "simulated_S_N_per_m"), 1.0, "target", "yarn model"},
+                   {&comp, numbers(d, "target_compression"), numbers(d, "simulated_compression"), 100.0, "target",
+                    "yarn model"}});
     if (y.contains("errors_by_direction") && y["errors_by_direction"].contains(dir)) {
       const double c = number_or_nan(y["errors_by_direction"][dir].value("comfort_stretch", json()));
       st.marks.push_back({100.0 * c, direction_colour(dir), dir + " end of comfort range"});
@@ -405,6 +414,35 @@ std::set<std::string> strings(const json& j, const char* key) {
   return out;
 }
 
+// A shell parameter's search range and whether it ended on it; false when it was not searched.
+bool shell_parameter(const results::ShellFitFile& shell, const std::string& name, svg::BoundedValue& v) {
+  const auto bound = shell.bounds.find(name);
+  if (bound == shell.bounds.end()) return false;
+  v.lower = bound->second.lower;
+  v.upper = bound->second.upper;
+  v.log = bound->second.log;
+  v.on_bound = std::find(shell.at_bounds.begin(), shell.at_bounds.end(), name) != shell.at_bounds.end();
+  return true;
+}
+
+// The same for a yarn parameter, with how far the targets pin it (its identifiability).
+bool yarn_parameter(const json& stage, const std::string& name, svg::BoundedValue& v) {
+  const json bounds = stage.contains("bounds") && stage["bounds"].contains(name) ? stage["bounds"][name] : json();
+  if (bounds.is_null()) return false;
+  v.lower = number_or_nan(bounds.value("lower", json()));
+  v.upper = number_or_nan(bounds.value("upper", json()));
+  v.log = bounds.value("log", true);
+  v.on_bound = strings(stage, "on_bound").count(name) > 0;
+  if (stage.contains("identifiability") && stage["identifiability"].contains("parameters") &&
+      stage["identifiability"]["parameters"].contains(name)) {
+    const json& e = stage["identifiability"]["parameters"][name];
+    const bool free = e.value("free", false);
+    v.range_refit = free ? std::numeric_limits<double>::infinity() : number_or_nan(e.value("range_factor", json()));
+    v.range_held = number_or_nan(e.value("range_alone_factor", json()));
+  }
+  return true;
+}
+
 void parameter_plot(std::ostringstream& h, const FabricRow& r) {
   svg::BoundsPlot p;
   p.title = "Fitted parameters on their search range (log axes unless stated)";
@@ -415,30 +453,19 @@ void parameter_plot(std::ostringstream& h, const FabricRow& r) {
     for (std::size_t i = 0; i < k_params.size(); ++i)
       if (std::string_view(k_params[i].stage) == stage_name) order.push_back(i);
   for (const std::size_t i : order) {
-    const json& stage = std::string_view(k_params[i].stage) == "shell" ? r.outputs->shell : r.outputs->yarn;
-    if (!stage.is_object() || !std::isfinite(r.params[i])) continue;
+    const bool shell = std::string_view(k_params[i].stage) == "shell";
+    if (!(shell ? r.has_shell() : r.has_yarn()) || !std::isfinite(r.params[i])) continue;
     const std::string name = k_params[i].key;
-    const json bounds = stage.contains("bounds") && stage["bounds"].contains(name) ? stage["bounds"][name] : json();
-    if (bounds.is_null()) {
+    svg::BoundedValue v;
+    const bool searched = shell ? shell_parameter(*r.outputs->shell, name, v) : yarn_parameter(r.outputs->yarn, name, v);
+    if (!searched) {
       fixed.push_back(name + " = " + number_label(r.params[i]) + " " + k_params[i].unit);
       continue;
     }
-    svg::BoundedValue v;
     v.name = name;
     v.unit = k_params[i].unit;
     v.value = r.params[i];
-    v.lower = number_or_nan(bounds.value("lower", json()));
-    v.upper = number_or_nan(bounds.value("upper", json()));
-    v.log = bounds.value("log", true);
     if (!v.log) v.name += " (linear)";
-    v.on_bound = strings(stage, "on_bound").count(name) + strings(stage, "at_bounds").count(name) > 0;
-    if (stage.contains("identifiability") && stage["identifiability"].contains("parameters") &&
-        stage["identifiability"]["parameters"].contains(name)) {
-      const json& e = stage["identifiability"]["parameters"][name];
-      const bool free = e.value("free", false);
-      v.range_refit = free ? std::numeric_limits<double>::infinity() : number_or_nan(e.value("range_factor", json()));
-      v.range_held = number_or_nan(e.value("range_alone_factor", json()));
-    }
     p.values.push_back(v);
   }
   if (!p.values.empty()) {
@@ -465,6 +492,26 @@ void list_json(std::ostringstream& h, const json& j) {
   }
 }
 
+// "Not identified: a; b" (sorted, each once), nothing for an empty list.
+void identification_note(std::ostringstream& h, const char* what, const std::vector<std::string>& items) {
+  const std::set<std::string> list(items.begin(), items.end());
+  if (list.empty()) return;
+  h << "<p class=\"note\">" << what << ": ";
+  bool first = true;
+  for (const auto& s : list) h << (first ? "" : "; ") << escape(s), first = false;
+  h << "</p>";
+}
+
+// "<b>scene</b>: effect, effect; …".
+void list_effects(std::ostringstream& h, const std::map<std::string, std::vector<std::string>>& effects) {
+  bool first = true;
+  for (const auto& [scene, list] : effects) {
+    h << (first ? "" : "; ") << "<b>" << escape(scene) << "</b>: ";
+    for (std::size_t i = 0; i < list.size(); ++i) h << (i ? ", " : "") << escape(list[i]);
+    first = false;
+  }
+}
+
 void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs) {
   h << "<section class=\"fabric\" id=\"" << anchor(r.id) << "\" data-fabric=\"" << escape(r.id) << "\"><h3>"
     << escape(r.id) << " <span class=\"meta\">family " << escape(family_name(r.family))
@@ -472,8 +519,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   if (!r.error.empty()) h << "<p class=\"fail\">" << escape(r.error) << "</p>";
   if (r.has_shell()) {
     // shell_fit.json names its in-plane law; outputs from before the choice existed are eq. 6.1.
-    const auto& shell = r.outputs->shell;
-    const std::string model = shell.contains("model") && shell["model"].is_string() ? shell["model"].get<std::string>() : "thesis";
+    const std::string& model = r.outputs->shell->model;
     h << "<p class=\"note\" data-shell-model=\"" << escape(model) << "\">shell model: " << escape(model)
       << (model == "stiffening" ? " (eq. 6.1 with exponential lock-up per material direction and lateral shares)"
                                   : " (eq. 6.1)") << "</p>";
@@ -503,21 +549,16 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   if (r.has_yarn()) h << "<th>yarn stress, comfort</th><th>yarn stress, full</th><th>yarn compression</th><th>yarn bending</th>";
   h << "</tr>";
   std::set<std::string> dirs;
-  if (r.has_shell() && r.outputs->shell.contains("directions"))
-    for (const auto& d : r.outputs->shell["directions"]) dirs.insert(d.value("direction", std::string("?")));
+  if (r.has_shell())
+    for (const auto& d : r.outputs->shell->directions) dirs.insert(d.direction);
   if (r.has_yarn() && r.outputs->yarn.contains("errors_by_direction"))
     for (const auto& [k, v] : r.outputs->yarn["errors_by_direction"].items()) dirs.insert(k);
   for (const char* dir : {"weft", "bias", "warp"}) {
     if (!dirs.count(dir)) continue;
     h << "<tr><td class=\"l\">" << dir << "</td>";
-    double f = k_nan, c = k_nan;
-    if (r.has_shell() && r.outputs->shell.contains("directions"))
-      for (const auto& d : r.outputs->shell["directions"])
-        if (d.value("direction", std::string()) == dir) {
-          f = shell_error_pct_json(d.value("measured_force_N", json()), d.value("simulated_force_N", json()));
-          c = shell_error_pct_json(d.value("measured_compression", json()), d.value("simulated_compression", json()));
-        }
-    h << pct_cell(f) << pct_cell(c);
+    const results::ShellDirectionErrors shell =
+        r.has_shell() ? r.outputs->shell->direction_errors(dir) : results::ShellDirectionErrors{k_nan, k_nan, k_nan};
+    h << pct_cell(shell.stretch_force_pct) << pct_cell(shell.compression_pct);
     if (r.has_yarn()) {
       const json& e = r.outputs->yarn.value("errors_by_direction", json::object());
       const json dj = e.contains(dir) ? e[dir] : json::object();
@@ -539,17 +580,9 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   h << "</div>";
   parameter_plot(h, r);
   // Identification notes.
-  for (const json* stage : {&r.outputs->shell, &r.outputs->yarn}) {
-    if (!stage->is_object()) continue;
-    for (const char* key : {"not_identified", "weakly_identified"}) {
-      const auto list = strings(*stage, key);
-      if (list.empty()) continue;
-      h << "<p class=\"note\">" << (std::string_view(key) == "not_identified" ? "Not identified" : "Weakly identified")
-        << ": ";
-      bool first = true;
-      for (const auto& s : list) h << (first ? "" : "; ") << escape(s), first = false;
-      h << "</p>";
-    }
+  if (r.has_shell()) {
+    identification_note(h, "Not identified", r.outputs->shell->not_identified);
+    identification_note(h, "Weakly identified", r.outputs->shell->weakly_identified);
   }
   // Time per stage and the effects simulated.
   h << "<table><tr>";
@@ -557,7 +590,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   h << "</tr><tr>";
   for (double t : r.times) h << "<td>" << seconds_text(t) << "</td>";
   h << "</tr></table><p class=\"note\">Effects simulated — shell: ";
-  if (r.has_shell()) list_json(h, r.outputs->shell.value("effects", json()));
+  if (r.has_shell()) list_effects(h, r.outputs->shell->effects);
   if (r.has_yarn()) {
     h << "; yarn: ";
     list_json(h, r.outputs->yarn.value("effects", json()));

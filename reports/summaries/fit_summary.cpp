@@ -8,8 +8,8 @@
 
 namespace yarnfit::reports {
 
-std::string fit_summary(const std::string& fabric_id, const std::string& fabric_folder, const nlohmann::json& shell_fit,
-                        const nlohmann::json& yarn_fit, const StageSeconds& seconds) {
+std::string fit_summary(const std::string& fabric_id, const std::string& fabric_folder,
+                        const results::ShellFitFile& shell_fit, const nlohmann::json& yarn_fit, const StageSeconds& seconds) {
   std::ostringstream summary;
   summary << "fabric " << fabric_id << " (" << fabric_folder << ")\n\n"
           << shell_summary(shell_fit, seconds.shell) << "\n"

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "results/shell_fit_file.hpp"
+
 namespace yarnfit::reports {
 
 // Wall time of the pipeline's stages [s].
@@ -18,7 +20,7 @@ struct StageSeconds {
 // summary.txt: the fabric (its id and the folder it was read from), the shell summary, the
 // yarn summary and the time per stage.
 [[nodiscard]] std::string fit_summary(const std::string& fabric_id, const std::string& fabric_folder,
-                                      const nlohmann::json& shell_fit, const nlohmann::json& yarn_fit,
+                                      const results::ShellFitFile& shell_fit, const nlohmann::json& yarn_fit,
                                       const StageSeconds& seconds);
 
 // yarn_summary.txt: the fabric, where the targets came from, and the yarn summary.

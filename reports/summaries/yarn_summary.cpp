@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "fabrics_db/text_util.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "reports/summaries/text.hpp"
 
 namespace yarnfit::reports {
@@ -17,6 +17,7 @@ namespace yarnfit::reports {
 namespace {
 
 using nlohmann::json;
+using results::number_or_nan;
 constexpr double k_inf = std::numeric_limits<double>::infinity();
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
