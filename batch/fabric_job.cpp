@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <map>
 #include <optional>
 #include <stdexcept>
 
@@ -11,6 +12,10 @@
 #include "calibration/fit/fit_checkpoint.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "pipeline/plan.hpp"
+#include "pipeline/outputs.hpp"
+#include "pipeline/pipeline.hpp"
+#include "results/shell_fit_file.hpp"
+#include "results/yarn_fit_file.hpp"
 
 namespace yarnfit::batch {
 
@@ -54,35 +59,61 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   return {true, ""};
 }
 
-double number_at(const json& j, const char* key) {
-  const auto it = j.find(key);
-  if (it == j.end()) return std::numeric_limits<double>::quiet_NaN();
-  if (it->is_boolean()) return it->get<bool>() ? 1.0 : 0.0;
-  if (it->is_number()) return it->get<double>();
-  return std::numeric_limits<double>::quiet_NaN();
-}
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
-std::optional<ResultRow> row_of(const fs::path& file, const std::string& stage, const std::string& fabric_id,
-                                const std::string& family) {
-  std::string text, why;
-  if (!db::read_text_file(file, text, why)) return std::nullopt;
-  const json j = json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return std::nullopt;
-  ResultRow row{fabric_id, stage, family, {}, j.value("params", json::object()).dump()};
-  const json empty = json::object();
-  const json& params = j.contains("params") ? j["params"] : empty;
-  const json& errors = j.contains("errors") ? j["errors"] : empty;
+// What a stage's row holds; the ledger's columns take the result file's names (its errors and
+// parameters).
+struct StageFigures {
+  std::string params_json;
+  double converged = k_nan;  // 1 or 0
+  double evaluations = k_nan;
+  double seconds = k_nan;
+  std::map<std::string, double> errors;
+  std::map<std::string, double> params;  // fitted values only
+};
+
+ResultRow ledger_row(const std::string& fabric_id, const std::string& stage, const std::string& family,
+                     const StageFigures& f) {
+  ResultRow row{fabric_id, stage, family, {}, f.params_json};
   for (const auto& c : result_columns()) {
-    double v = std::numeric_limits<double>::quiet_NaN();
-    if (c == "converged") v = number_at(j, stage == "shell" ? "converged" : "ok");
-    else if (c == "evaluations") v = number_at(j, "evaluations");
-    else if (c == "seconds") v = j.contains("timing_s") && j["timing_s"].is_object() ? number_at(j["timing_s"], "total")
-                                                                                    : number_at(j, "timing_s");
-    else if (errors.contains(c)) v = number_at(errors, c.c_str());
-    else v = number_at(params, c.c_str());
+    double v = k_nan;
+    if (c == "converged") v = f.converged;
+    else if (c == "evaluations") v = f.evaluations;
+    else if (c == "seconds") v = f.seconds;
+    else if (const auto e = f.errors.find(c); e != f.errors.end()) v = e->second;
+    else if (const auto p = f.params.find(c); p != f.params.end()) v = p->second;
     row.values.push_back(v);
   }
   return row;
+}
+
+// The file as its type; none when it is missing or unreadable (the row is left out).
+template <class File, class Read>
+std::optional<File> read_or_none(const fs::path& file, Read read) {
+  if (!fs::exists(file)) return std::nullopt;
+  try {
+    return read(file);
+  } catch (const std::runtime_error&) {
+    return std::nullopt;
+  }
+}
+
+std::optional<ResultRow> shell_row(const fs::path& file, const std::string& fabric_id, const std::string& family) {
+  const auto shell = read_or_none<results::ShellFitFile>(file, results::read_shell_fit_file);
+  if (!shell) return std::nullopt;
+  StageFigures f{results::params_json(shell->params).dump(), shell->converged ? 1.0 : 0.0, k_nan, shell->timing_s,
+                 results::named_errors(shell->errors), {}};
+  for (const auto& [name, v] : shell->params)
+    if (v) f.params[name] = *v;
+  return ledger_row(fabric_id, "shell", family, f);
+}
+
+std::optional<ResultRow> yarn_row(const fs::path& file, const std::string& fabric_id, const std::string& family) {
+  const auto yarn = read_or_none<results::YarnFitFile>(file, results::read_yarn_fit_file);
+  if (!yarn) return std::nullopt;
+  const StageFigures f{json(yarn->params).dump(), yarn->ok ? 1.0 : 0.0, static_cast<double>(yarn->evaluations),
+                       yarn->timing_s.total, results::named_errors(yarn->errors), yarn->params};
+  return ledger_row(fabric_id, "yarn", family, f);
 }
 
 }  // namespace
@@ -109,8 +140,8 @@ JobOutcome run_fabric_job(const JobSpec& spec, const BatchOptions& options, cons
 std::vector<ResultRow> read_result_rows(const fs::path& folder, const std::string& fabric_id,
                                         const std::string& family) {
   std::vector<ResultRow> rows;
-  if (auto r = row_of(folder / "shell_fit.json", "shell", fabric_id, family)) rows.push_back(std::move(*r));
-  if (auto r = row_of(folder / "yarn_fit.json", "yarn", fabric_id, family)) rows.push_back(std::move(*r));
+  if (auto r = shell_row(folder / "shell_fit.json", fabric_id, family)) rows.push_back(std::move(*r));
+  if (auto r = yarn_row(folder / "yarn_fit.json", fabric_id, family)) rows.push_back(std::move(*r));
   return rows;
 }
 

@@ -17,7 +17,7 @@
 
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "numerics/util/clock.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
 #include "shell_fit/scenes/clamped_stretch.hpp"
 #include "shell_fit/scenes/pear_loop.hpp"
@@ -96,8 +96,8 @@ int main(int argc, char** argv) {
           const double t = seconds_of([&] { r = shell::fit_inplane(*load.fabric, o); });
           std::string split[2];
           for (const auto& d : r.directions) {
-            const double f = reports::shell_error_pct(d.measured_force, d.simulated_force);
-            const double c = reports::shell_error_pct(d.measured_compression, d.simulated_compression);
+            const double f = results::shell_error_pct(d.measured_force, d.simulated_force);
+            const double c = results::shell_error_pct(d.measured_compression, d.simulated_compression);
             char cell[64];
             std::snprintf(cell, sizeof cell, "%5.1f / %5.1f", f, c);
             if (d.direction == db::Direction::weft) split[0] = cell;

@@ -49,15 +49,10 @@ int run_weave_make(const TileMakeArgs& a) {
   const db::PeriodicTile tile = db::make_woven_tile(*chart, o);
   if (!write_files(a.out, [&] { db::write_pyp(tile, a.out); })) return k_exit_internal;
   if (a.json) {
-    std::cout << nlohmann::json{{"weave", chart->name},
-                                {"weave_rows", chart->text()},
-                                {"period_mm", {1e3 * tile.period_x, 1e3 * tile.period_y}},
-                                {"yarn_spacing_mm", a.yarn_spacing_mm},
-                                {"yarn_radius_mm", a.yarn_radius_mm},
-                                {"vertices", tile.vertex_count()},
-                                {"relaxed", false},
-                                {"file", a.out}}
-                     .dump(2)
+    const results::WovenTileFile record{chart->name,      chart->text(),     {1e3 * tile.period_x, 1e3 * tile.period_y},
+                                        a.yarn_spacing_mm, a.yarn_radius_mm, static_cast<long long>(tile.vertex_count()),
+                                        a.out};
+    std::cout << results::to_json(record).dump(2)
               << "\n";
   } else if (!a.quiet) {
     std::cout << "tile make --weave " << a.weave << " (" << chart->text() << "), yarns "
@@ -112,9 +107,9 @@ int run_tile_make(const TileMakeArgs& a) {
   }
   if (t.converged && !write_files(a.out, [&] { db::write_pyp(t.tile, a.out); })) return k_exit_internal;
   if (a.json) {
-    nlohmann::json j = yarn::to_json(t);
-    j["file"] = t.converged ? nlohmann::json(a.out) : nlohmann::json(nullptr);
-    std::cout << j.dump(2) << "\n";
+    results::TileFile record = yarn::to_file(t);
+    record.file = t.converged ? a.out : "";
+    std::cout << results::to_json(record).dump(2) << "\n";
   } else if (!a.quiet) {
     const auto mm = [](double metres) { return db::format_g(1e3 * metres, 4); };
     std::cout << "tile make " << a.chart << " (" << chart->text() << "), L " << db::format_g(a.stitch_length_mm)

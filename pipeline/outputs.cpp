@@ -1,5 +1,7 @@
 #include "pipeline/outputs.hpp"
 
+#include <optional>
+
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "reports/summaries/fit_summary.hpp"
@@ -63,16 +65,31 @@ std::string listed(const std::vector<std::string>& files) {
   return s;
 }
 
-// shell_fit.json, uniform_targets.csv and, for a usable model, shell_curves.csv; returns the
-// JSON.
-nlohmann::json write_shell_stage(const shell::ShellFitResult& shell, const FolderWriter& write) {
-  nlohmann::json j = shell::to_json(shell);
-  write("shell_fit.json", j.dump(2) + "\n");
+// shell_fit.json, uniform_targets.csv and, for a usable model, shell_curves.csv; returns what
+// shell_fit.json holds.
+results::ShellFitFile write_shell_stage(const shell::ShellFitResult& shell, const FolderWriter& write) {
+  const results::ShellFitFile j = shell::to_file(shell);
+  write("shell_fit.json", results::to_json(j).dump(2) + "\n");
   db::write_uniform_targets_csv(shell.targets, write.folder / "uniform_targets.csv");
   write.out.files.push_back("uniform_targets.csv");
   write.out.text = reports::shell_fit_report(j);
   if (shell.usable()) write("shell_curves.csv", reports::shell_curves_csv(j));
   return j;
+}
+
+// yarn_fit.json and yarn_curves.csv.
+void write_yarn_files(const results::YarnFitFile& yarn, const FolderWriter& write) {
+  write("yarn_fit.json", results::to_json(yarn).dump(2) + "\n");
+  write("yarn_curves.csv", reports::yarn_curves_csv(yarn));
+}
+
+// The yarn stage alone: its two files and yarn_summary.txt (naming the fabric and the targets);
+// returns the yarn summary.
+std::string write_yarn_stage(const results::YarnFitFile& yarn, const FolderWriter& write) {
+  write_yarn_files(yarn, write);
+  const std::string summary = reports::yarn_summary(yarn);
+  write("yarn_summary.txt", reports::yarn_summary_file(yarn.fabric, yarn.targets, yarn));
+  return summary;
 }
 
 }  // namespace
@@ -83,37 +100,31 @@ PipelineOutputs write_outputs(const PipelineResult& result, const fs::path& fold
   fs::create_directories(folder);
   const FolderWriter write{folder, out};
   const auto results_line = [&] { return "results in " + folder.string() + ": " + listed(out.files) + "\n"; };
-  const nlohmann::json shell = result.shell ? write_shell_stage(*result.shell, write) : nlohmann::json();
+  const std::optional<results::ShellFitFile> shell =
+      result.shell ? std::optional(write_shell_stage(*result.shell, write)) : std::nullopt;
   if (!result.yarn) {
     out.text += results_line();
     return out;
   }
-  const nlohmann::json yarn = yarn_fit_json(result, folder / "uniform_targets.csv");
-  if (result.shell) {
-    write("yarn_fit.json", yarn.dump(2) + "\n");
-    write("yarn_curves.csv", reports::yarn_curves_csv(yarn));
-    out.summary = reports::fit_summary(result.fabric_id, result.fabric_folder.string(), shell, yarn,
+  const results::YarnFitFile yarn = yarn_fit_file(result, folder / "uniform_targets.csv");
+  if (!shell) {
+    out.summary = write_yarn_stage(yarn, write);
+    out.text = "yarn fit of " + result.fabric_id + "\n" + out.summary;
+  } else {
+    write_yarn_files(yarn, write);
+    out.summary = reports::fit_summary(result.fabric_id, result.fabric_folder.string(), *shell, yarn,
                                        {result.seconds_shell, result.seconds_yarn, result.seconds_total});
     write("summary.txt", out.summary);
     out.text += "\n" + out.summary;
-  } else {
-    out.summary = write_yarn_outputs(yarn, folder);
-    out.files = output_files(Stages::yarn);
-    out.text = "yarn fit of " + result.fabric_id + "\n" + out.summary;
   }
   out.text += results_line();
   return out;
 }
 
-std::string write_yarn_outputs(const nlohmann::json& yarn_fit, const fs::path& folder) {
+std::string write_yarn_outputs(const results::YarnFitFile& yarn_fit, const fs::path& folder) {
   fs::create_directories(folder);
-  db::write_text_file_atomically(folder / "yarn_fit.json", yarn_fit.dump(2) + "\n");
-  db::write_text_file_atomically(folder / "yarn_curves.csv", reports::yarn_curves_csv(yarn_fit));
-  const std::string summary = reports::yarn_summary(yarn_fit);
-  db::write_text_file_atomically(folder / "yarn_summary.txt",
-                                 reports::yarn_summary_file(yarn_fit.value("fabric", std::string()),
-                                                            yarn_fit.value("targets", std::string()), yarn_fit));
-  return summary;
+  PipelineOutputs out;
+  return write_yarn_stage(yarn_fit, FolderWriter{folder, out});
 }
 
 }  // namespace yarnfit::pipeline

@@ -48,10 +48,10 @@ struct PipelineOutputs {
 // std::runtime_error naming the file that could not be written.
 PipelineOutputs write_outputs(const PipelineResult& result, const std::filesystem::path& folder);
 
-// A yarn fit's folder (created if needed) from its yarn_fit.json: yarn_fit.json,
-// yarn_curves.csv and yarn_summary.txt (reports::yarn_summary_file, naming yarn_fit.json's
-// fabric and targets). Returns the yarn summary's text. Throws std::runtime_error naming a
+// A yarn fit's folder (created if needed), as write_outputs writes it after the yarn stage alone:
+// yarn_fit.json, yarn_curves.csv and yarn_summary.txt (reports::yarn_summary_file, naming the
+// fabric and the targets). Returns the yarn summary's text. Throws std::runtime_error naming a
 // file it cannot write.
-std::string write_yarn_outputs(const nlohmann::json& yarn_fit, const std::filesystem::path& folder);
+std::string write_yarn_outputs(const results::YarnFitFile& yarn_fit, const std::filesystem::path& folder);
 
 }  // namespace yarnfit::pipeline

@@ -175,16 +175,16 @@ PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const Pi
   return run(*load.fabric, options, start);
 }
 
-nlohmann::json shell_fit_json(const PipelineResult& result) {
-  if (!result.shell) throw std::logic_error("shell_fit_json: the shell stage did not run");
-  return shell::to_json(*result.shell);
+results::ShellFitFile shell_fit_file(const PipelineResult& result) {
+  if (!result.shell) throw std::logic_error("shell_fit_file: the shell stage did not run");
+  return shell::to_file(*result.shell);
 }
 
-nlohmann::json yarn_fit_json(const PipelineResult& result, const std::filesystem::path& targets_file) {
-  if (!result.yarn || !result.yarn_problem) throw std::logic_error("yarn_fit_json: the yarn stage did not run");
-  nlohmann::json j = calibration::to_json(*result.yarn_problem, *result.yarn, result.yarn_settings);
-  if (result.shell) j["targets"] = targets_file.string();
-  return j;
+results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::filesystem::path& targets_file) {
+  if (!result.yarn || !result.yarn_problem) throw std::logic_error("yarn_fit_file: the yarn stage did not run");
+  results::YarnFitFile f = calibration::to_file(*result.yarn_problem, *result.yarn, result.yarn_settings);
+  if (result.shell) f.targets = targets_file.string();
+  return f;
 }
 
 }  // namespace yarnfit::pipeline

@@ -93,10 +93,10 @@ PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& opt
 // result's when it is invalid).
 PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const PipelineOptions& options);
 
-// The stages' JSON (SPEC §5). yarn_fit.json names its targets `targets_file`: the file
-// the shell stage's targets are written to.
-nlohmann::json shell_fit_json(const PipelineResult& result);
+// The stages' results as their files hold them (SPEC §5; results/). yarn_fit.json names its
+// targets `targets_file`: the file the shell stage's targets are written to.
+results::ShellFitFile shell_fit_file(const PipelineResult& result);
 // With Stages::yarn the targets are the file the options name, whatever `targets_file` says.
-nlohmann::json yarn_fit_json(const PipelineResult& result, const std::filesystem::path& targets_file);
+results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::filesystem::path& targets_file);
 
 }  // namespace yarnfit::pipeline

@@ -16,8 +16,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
 }  // namespace
 
 std::vector<GaussNewtonRange> gauss_newton_ranges(const Eigen::MatrixXd& jtj, double g) {
@@ -141,28 +139,16 @@ ParameterProfile profile_from_jacobian(const swarm::ParameterSpace& space, const
   return out;
 }
 
-nlohmann::json to_json(const ParameterProfile& p) {
-  nlohmann::json j;
-  j["computed"] = p.computed;
-  j["from"] = p.from_jacobian ? "jacobian" : "evaluations";
-  if (!p.message.empty()) j["message"] = p.message;
-  j["step"] = p.step;
-  j["objective"] = number_or_null(p.g_fit);
-  nlohmann::json entries = nlohmann::json::object();
-  for (const auto& e : p.entries) {
-    entries[e.name] = {{"value", e.value},
-                       {"objective_lower", number_or_null(e.g_lower)},
-                       {"objective_upper", number_or_null(e.g_upper)},
-                       // null with "free": the residuals do not pin it (range unbounded)
-                       {"range_factor", number_or_null(e.range_factor)},
-                       {"range_alone_factor", number_or_null(e.range_alone_factor)},
-                       {"free", std::isinf(e.range_factor)},
-                       {"free_alone", std::isinf(e.range_alone_factor)}};
-  }
-  j["parameters"] = entries;
-  j["evaluations"] = p.evaluations;
-  j["seconds"] = p.seconds;
-  return j;
+results::Identifiability to_record(const ParameterProfile& p) {
+  results::Identifiability out{p.computed, p.from_jacobian ? "jacobian" : "evaluations", p.message, p.step, p.g_fit,
+                               {},         p.evaluations,                                 p.seconds};
+  // An unbounded range (+inf: the residuals do not pin it) is written null with "free".
+  for (const auto& e : p.entries)
+    out.parameters[e.name] = {e.value,          e.g_lower,
+                              e.g_upper,        e.range_factor,
+                              e.range_alone_factor, std::isinf(e.range_factor),
+                              std::isinf(e.range_alone_factor)};
+  return out;
 }
 
 }  // namespace yarnfit::calibration

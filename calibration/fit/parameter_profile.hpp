@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "calibration/objective/yarn_objective.hpp"
+#include "results/yarn_fit_file.hpp"
 #include "swarm/parameter_space.hpp"
 
 namespace yarnfit::calibration {
@@ -81,6 +82,7 @@ ParameterProfile profile_from_jacobian(const swarm::ParameterSpace& space, const
                                        const Eigen::VectorXd& residuals, const Eigen::MatrixXd& jacobian_log,
                                        double step);
 
-nlohmann::json to_json(const ParameterProfile& profile);
+// As yarn_fit.json's `identifiability` holds it.
+results::Identifiability to_record(const ParameterProfile& profile);
 
 }  // namespace yarnfit::calibration

@@ -14,7 +14,7 @@
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
 #include "numerics/util/clock.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::calibration {
 
@@ -364,200 +364,158 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::
 
 namespace {
 
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
 // The overall figure of one error: the mean over directions (each direction's figure is
 // already a mean over its samples).
 double overall(const ObjectiveResult& r, double DirectionError::*field) {
   std::vector<double> per_direction;
   for (const auto& d : r.directions) per_direction.push_back(d.*field);
-  return reports::mean_over_directions(per_direction);
+  return results::mean_over_directions(per_direction);
 }
 
-nlohmann::json number_or_null(double v) { return reports::pct_json(v); }
-
 // The final evaluation's curves, in direction order (yarn_curves.csv is written from them).
-nlohmann::json curves_json(const ObjectiveResult& final) {
-  nlohmann::json curves = nlohmann::json::array();
-  for (const auto& d : final.directions) {
-    curves.push_back({{"direction", std::string(db::to_string(d.scale.direction))},
-                      {"stretch", d.stretch},
-                      {"target_S_N_per_m", d.stress_target},
-                      {"simulated_S_N_per_m", d.stress_sim},
-                      {"target_compression", d.compression_target},
-                      {"simulated_compression", d.compression_sim},
-                      {"weight", d.weight}});
-  }
+std::vector<results::YarnCurve> curves_of(const ObjectiveResult& final) {
+  std::vector<results::YarnCurve> curves;
+  for (const auto& d : final.directions)
+    curves.push_back({std::string(db::to_string(d.scale.direction)), d.stretch, d.stress_target, d.stress_sim,
+                      d.compression_target, d.compression_sim, d.weight});
   return curves;
 }
 
-}  // namespace
+// Each direction's figures; the bending check adds its own where it ran.
+std::map<std::string, results::YarnDirectionErrors> direction_errors_of(const YarnFitResult& r) {
+  std::map<std::string, results::YarnDirectionErrors> dirs;
+  for (const auto& d : r.final.directions) {
+    // Samples whose Ψ(c) was flat (the compression read at the targets' c inside the band, so
+    // it adds no compression error) or had no stable c (held where accepted).
+    dirs[std::string(db::to_string(d.scale.direction))] = {
+        d.stress_comfort_pct, d.stress_full_pct, d.compression_pct,   d.scale.comfort_stretch, d.value,
+        static_cast<long long>(d.stretch.size()), d.flat,          d.held,           {},         {}};
+  }
+  if (r.bending.ok) {
+    for (const auto& b : r.bending.directions) {
+      results::YarnDirectionErrors& d = dirs[std::string(db::to_string(b.direction))];
+      d.bending_pct = b.error_pct;
+      d.curl_stress_kappa_N = b.curl_stress;
+    }
+  }
+  return dirs;
+}
 
-namespace {
-
-nlohmann::json local_json(const LocalStepSummary& l) {
-  nlohmann::json j = {{"method", to_string(l.method)},
-                      {"status", l.status},
-                      {"converged", l.converged},
-                      {"best", number_or_null(l.best_value)},
-                      {"start", number_or_null(l.start_value)},
-                      {"evaluations", l.evaluations},
-                      {"failed", l.failed},
-                      {"seconds", l.seconds},
-                      {"report", l.report}};
+results::LocalRunRecord local_record(const LocalStepSummary& l) {
+  results::LocalRunRecord out{to_string(l.method), l.status,   l.converged, l.best_value, l.start_value,
+                              l.evaluations,       l.failed,   l.seconds,   l.report,     {},
+                              {},                  {},         {},          {},           {},
+                              {}};
   if (l.method == LocalMethod::implicit_filtering) {
-    j["iterations"] = l.iterations;
-    j["final_scale"] = l.final_scale;
-    nlohmann::json history = nlohmann::json::array();
+    out.iterations = l.iterations;
+    out.final_scale = l.final_scale;
+    out.history.emplace();
     for (const auto& h : l.history)
-      history.push_back({{"evaluations", h.evaluations},
-                         {"scale", h.scale},
-                         {"best", h.value},
-                         {"move", swarm::to_string(h.move)},
-                         {"trials", h.trials}});
-    j["history"] = history;
+      out.history->push_back({h.evaluations, h.scale, h.value, std::string(swarm::to_string(h.move)), h.trials});
   }
   if (l.method == LocalMethod::gauss_newton) {
     const AlternationSummary& a = l.alternation;
-    nlohmann::json rounds = nlohmann::json::array();
+    out.rounds.emplace();
     for (const auto& round : a.rounds)
-      rounds.push_back({{"round", round.round},
-                        {"objective_start", number_or_null(round.g_start)},
-                        {"objective_held", number_or_null(round.g_end)},
-                        {"objective_trial", number_or_null(round.g_true)},
-                        {"accepted", round.accepted},
-                        {"move", round.move},
-                        {"iterations", round.iterations},
-                        {"evaluations", round.evaluations},
-                        {"termination", round.termination}});
-    j["rounds"] = rounds;
-    j["last_move"] = a.last_move;
-    j["fell_back"] = a.fell_back;
-    if (a.fell_back) j["fallback"] = {{"reason", a.fallback_reason}, {"report", a.fallback.message.empty() ? a.fallback.brief_report() : a.fallback.message}};
+      out.rounds->push_back({round.round, round.g_start, round.g_end, round.g_true, round.accepted, round.move,
+                             round.iterations, round.evaluations, round.termination});
+    out.last_move = a.last_move;
+    out.fell_back = a.fell_back;
+    if (a.fell_back)
+      out.fallback = results::LocalFallback{
+          a.fallback_reason, a.fallback.message.empty() ? a.fallback.brief_report() : a.fallback.message};
   }
-  return j;
+  return out;
+}
+
+results::YarnFitSettingsRecord settings_record(const YarnFitSettings& settings, const YarnFitResult& r) {
+  results::YarnFitSettingsRecord s;
+  s.global_method = to_string(settings.global_method);
+  const auto stage = [](const auto& st) { return results::SwarmStageSettings{st.particles, st.iterations, st.samples}; };
+  s.staged_contact = stage(settings.staged.contact);
+  s.staged_all = stage(settings.staged.all);
+  s.staged_r1_window = settings.staged.r1_window;
+  s.staged_rescored = settings.staged.rescored;
+  s.staged_starts = settings.staged.starts;
+  s.alternation_max_rounds = settings.alternation.max_rounds;
+  s.alternation_iterations_per_round = settings.alternation.iterations_per_round;
+  s.alternation_initial_radius = settings.alternation.initial_radius;
+  s.alternation_move_tolerance = settings.alternation.move_tolerance;
+  s.particles = settings.swarm ? settings.particles : 0;
+  s.iterations = settings.swarm ? settings.iterations : 0;
+  s.swarm_samples = settings.swarm_samples;
+  s.local_samples = settings.local_samples;
+  s.local_method = to_string(settings.local_method);
+  s.local_evaluations = settings.local_evaluations;
+  s.swarm_compression_nodes = settings.swarm_compression_nodes;
+  s.local_compression_nodes = settings.local_compression_nodes;
+  s.seed = settings.seed;
+  s.swarm = settings.swarm;
+  s.linear_stretch = settings.linear_stretch;
+  s.rest_shape = settings.rest_shape;
+  s.rest_period = settings.objective.rest_period;
+  s.band_correction = settings.objective.root_correction && settings.local_method == LocalMethod::gauss_newton;
+  s.bending_points = settings.bending_points;
+  s.profile_step = settings.profile_step;
+  s.swarm_cutoff = settings.swarm_cutoff;
+  if (!settings.swarm && settings.start) s.start = yarn::to_json(*settings.start).get<std::map<std::string, double>>();
+  // After --resume the swarm ran with the checkpoint's settings, not the caller's.
+  if (settings.swarm && settings.resume && !r.swarm.history.empty()) {
+    s.particles = r.swarm.settings.particles;
+    s.iterations = r.swarm.settings.iterations;
+    s.resumed_from = settings.checkpoint.string();
+  }
+  return s;
+}
+
+// The global search: the swarm's record and each stage's.
+void add_global_search(const YarnFitResult& r, const YarnFitSettings& settings, results::YarnFitFile& f) {
+  results::SwarmRecord swarm{r.swarm.best_value, r.swarm.evaluations, r.swarm.failed, r.swarm_stopped, {},
+                             r.swarm.brief_report()};
+  for (const auto& h : r.swarm.history) swarm.history.push_back({h.iteration, h.best_value, h.failed});
+  f.swarm = std::move(swarm);
+  results::GlobalRecord global{to_string(settings.global_method), {}};
+  for (const auto& st : r.global)
+    global.stages.push_back({st.name, st.evaluations, st.stopped, st.best, st.seconds,
+                             st.swarm.history.empty() ? std::string() : st.swarm.brief_report()});
+  f.global = std::move(global);
 }
 
 }  // namespace
 
-nlohmann::json to_json(const YarnFitResult& r, const YarnFitSettings& settings) {
-  nlohmann::json j;
-  j["ok"] = r.ok;
-  if (!r.message.empty()) j["message"] = r.message;
-  j["params"] = yarn::to_json(r.params);
-  j["errors"] = {
-      {"stress_comfort_pct", number_or_null(overall(r.final, &DirectionError::stress_comfort_pct))},
-      {"stress_full_pct", number_or_null(overall(r.final, &DirectionError::stress_full_pct))},
-      {"compression_pct", number_or_null(overall(r.final, &DirectionError::compression_pct))},
-      // Not fitted (6.11 has stretch and compression only): the fitted model checked
-      // against the bending targets afterwards (bending_check.hpp).
-      {"bending_pct", r.bending.ok && !r.bending.directions.empty() ? nlohmann::json(r.bending.bending_pct)
-                                                                     : nlohmann::json()},
-  };
-  nlohmann::json dirs = nlohmann::json::object();
-  for (const auto& d : r.final.directions) {
-    dirs[std::string(db::to_string(d.scale.direction))] = {
-        {"stress_comfort_pct", d.stress_comfort_pct},
-        {"stress_full_pct", d.stress_full_pct},
-        {"compression_pct", d.compression_pct},
-        {"comfort_stretch", d.scale.comfort_stretch},
-        {"objective", d.value},
-        // Samples whose Ψ(c) was flat (the compression read at the targets' c inside the
-        // band, so it adds no compression error) or had no stable c (held where accepted).
-        {"samples", d.stretch.size()},
-        {"flat_compressions", d.flat},
-        {"held_compressions", d.held},
-    };
-  }
-  for (const auto& b : r.bending.directions) {
-    if (!r.bending.ok) break;
-    auto& d = dirs[std::string(db::to_string(b.direction))];
-    d["bending_pct"] = b.error_pct;
-    d["curl_stress_kappa_N"] = b.curl_stress;
-  }
-  j["errors_by_direction"] = dirs;
+results::YarnFitFile to_file(const YarnFitResult& r, const YarnFitSettings& settings) {
+  results::YarnFitFile f;
+  f.ok = r.ok;
+  f.message = r.message;
+  f.params = yarn::to_json(r.params).get<std::map<std::string, double>>();
+  // bending_pct is not fitted (6.11 has stretch and compression only): the fitted model checked
+  // against the bending targets afterwards (bending_check.hpp).
+  f.errors = {overall(r.final, &DirectionError::stress_comfort_pct), overall(r.final, &DirectionError::stress_full_pct),
+              overall(r.final, &DirectionError::compression_pct),
+              r.bending.ok && !r.bending.directions.empty() ? r.bending.bending_pct : k_nan};
+  f.errors_by_direction = direction_errors_of(r);
   // A fit without a final evaluation (every candidate failed, or the best failed on
-  // re-evaluation) has no errors: null, with the reason.
-  j["errors_reason"] = r.final.ok ? nlohmann::json() : nlohmann::json(r.message.empty() ? r.final.message : r.message);
-  j["curves"] = curves_json(r.final);
-  j["effects"] = r.effects;
-  nlohmann::json bounds = nlohmann::json::object();
-  for (const auto& p : r.bounds) bounds[p.name] = {{"lower", p.lower}, {"upper", p.upper}, {"log", p.log_space}};
-  j["bounds"] = bounds;
-  if (!r.bending.message.empty()) j["bending_check"] = {{"ok", r.bending.ok}, {"message", r.bending.message}};
-  j["objective"] = r.final.ok ? number_or_null(r.final.value) : nlohmann::json();
-  j["on_bound"] = r.on_bound;
-  j["evaluations"] = r.evaluations;
-  j["timing_s"] = {{"swarm", r.seconds_swarm},
-                   {"local", r.seconds_local},
-                   {"bending_check", r.bending.seconds},
-                   {"profile", r.profile.seconds},
-                   {"total", r.seconds_total}};
-  if (settings.profile_step > 0.0) j["identifiability"] = to_json(r.profile);
-  j["settings"] = {
-      {"global_method", to_string(settings.global_method)},
-      {"staged",
-       {{"contact", {{"particles", settings.staged.contact.particles},
-                     {"iterations", settings.staged.contact.iterations},
-                     {"samples", settings.staged.contact.samples}}},
-        {"all", {{"particles", settings.staged.all.particles},
-                 {"iterations", settings.staged.all.iterations},
-                 {"samples", settings.staged.all.samples}}},
-        {"r1_window", settings.staged.r1_window},
-        {"rescored", settings.staged.rescored},
-        {"starts", settings.staged.starts}}},
-      {"alternation",
-       {{"max_rounds", settings.alternation.max_rounds},
-        {"iterations_per_round", settings.alternation.iterations_per_round},
-        {"initial_radius", settings.alternation.initial_radius},
-        {"move_tolerance", settings.alternation.move_tolerance}}},
-      {"particles", settings.swarm ? settings.particles : 0},
-      {"iterations", settings.swarm ? settings.iterations : 0},
-      {"swarm_samples", settings.swarm_samples},
-      {"local_samples", settings.local_samples},
-      {"local_method", to_string(settings.local_method)},
-      {"local_evaluations", settings.local_evaluations},
-      {"swarm_compression_nodes", settings.swarm_compression_nodes},
-      {"local_compression_nodes", settings.local_compression_nodes},
-      {"seed", settings.seed},
-      {"swarm", settings.swarm},
-      {"linear_stretch", settings.linear_stretch},
-      {"rest_shape", settings.rest_shape},
-      {"rest_period", settings.objective.rest_period},
-      {"band_correction", settings.objective.root_correction && settings.local_method == LocalMethod::gauss_newton},
-      {"bending_points", settings.bending_points},
-      {"profile_step", settings.profile_step},
-      {"swarm_cutoff", settings.swarm_cutoff},
-  };
-  if (!settings.swarm && settings.start) j["settings"]["start"] = yarn::to_json(*settings.start);
-  // After --resume the swarm ran with the checkpoint's settings, not the caller's.
-  if (settings.swarm && settings.resume && !r.swarm.history.empty()) {
-    j["settings"]["particles"] = r.swarm.settings.particles;
-    j["settings"]["iterations"] = r.swarm.settings.iterations;
-    j["settings"]["resumed_from"] = settings.checkpoint.string();
-  }
-  if (settings.swarm) {
-    nlohmann::json history = nlohmann::json::array();
-    for (const auto& h : r.swarm.history)
-      history.push_back({{"iteration", h.iteration}, {"best", number_or_null(h.best_value)}, {"failed", h.failed}});
-    j["swarm"] = {{"best", number_or_null(r.swarm.best_value)}, {"evaluations", r.swarm.evaluations},
-                  {"failed", r.swarm.failed}, {"stopped_at_cutoff", r.swarm_stopped}, {"history", history},
-                  {"report", r.swarm.brief_report()}};
-    nlohmann::json stages = nlohmann::json::array();
-    for (const auto& st : r.global)
-      stages.push_back({{"stage", st.name},
-                        {"evaluations", st.evaluations},
-                        {"stopped_at_cutoff", st.stopped},
-                        {"best", number_or_null(st.best)},
-                        {"seconds", st.seconds},
-                        {"report", st.swarm.history.empty() ? std::string() : st.swarm.brief_report()}});
-    j["global"] = {{"method", to_string(settings.global_method)}, {"stages", stages}};
-  }
+  // re-evaluation) has no errors: NaN, with the reason.
+  if (!r.final.ok) f.errors_reason = r.message.empty() ? r.final.message : r.message;
+  f.curves = curves_of(r.final);
+  f.effects = r.effects;
+  for (const auto& p : r.bounds) f.bounds[p.name] = {p.lower, p.upper, p.log_space};
+  if (!r.bending.message.empty()) f.bending_check = results::CheckOutcome{r.bending.ok, r.bending.message};
+  f.objective = r.final.ok ? r.final.value : k_nan;
+  f.on_bound = r.on_bound;
+  f.evaluations = r.evaluations;
+  f.timing_s = {r.seconds_swarm, r.seconds_local, r.bending.seconds, r.profile.seconds, r.seconds_total};
+  if (settings.profile_step > 0.0) f.identifiability = to_record(r.profile);
+  f.settings = settings_record(settings, r);
+  if (settings.swarm) add_global_search(r, settings, f);
   if (r.local.ran) {
-    j["local"] = local_json(r.local);
-    nlohmann::json runs = nlohmann::json::array();
-    for (const auto& run : r.local_runs) runs.push_back(local_json(run));
-    j["local"]["runs"] = runs;
+    results::LocalRecord local{local_record(r.local), {}};
+    for (const auto& run : r.local_runs) local.runs.push_back(local_record(run));
+    f.local = std::move(local);
   }
-  return j;
+  return f;
 }
 
 }  // namespace yarnfit::calibration

@@ -24,6 +24,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "results/yarn_fit_file.hpp"
+
 #include "calibration/fit/alternation.hpp"
 #include "calibration/fit/global_search.hpp"
 #include "calibration/fit/local_step.hpp"
@@ -144,13 +146,13 @@ Eigen::VectorXd point_from_params(const yarn::YarnParams& p, bool linear_stretch
 YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings);
 
-// yarn_fit.json (SPEC §5): params {ks1, eps_s, kb, R1, kc1, ks2, kc2, R2}, errors
+// What yarn_fit.json holds (SPEC §5; results/yarn_fit_file.hpp writes it): params {ks1, eps_s, kb, R1, kc1, ks2, kc2, R2}, errors
 // {stress_comfort_pct, stress_full_pct, compression_pct, bending_pct (null without bending
 // targets or when the check was skipped or failed)} (all null, with errors_reason, when the
 // fit failed), evaluations, timing_s, effects, plus per-direction errors, the final curves
 // (`curves`, in direction order), on_bound, bounds {name: {lower, upper, log}},
 // identifiability (the parameter profile), settings (after a --resume the checkpoint's
 // particles and iterations) and stage summaries with their one-line reports.
-nlohmann::json to_json(const YarnFitResult& result, const YarnFitSettings& settings);
+results::YarnFitFile to_file(const YarnFitResult& result, const YarnFitSettings& settings);
 
 }  // namespace yarnfit::calibration

@@ -6,7 +6,7 @@
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
 #include "numerics/util/clock.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::calibration {
 
@@ -65,11 +65,11 @@ BendingCheck check_bending(const yarn::YarnTile& tile, const std::vector<db::Dir
       e.stress_sim.push_back(sigma - flat.stress_kappa);
       e.stress_target.push_back(t.bending[i].stress);
     }
-    e.error_pct = reports::yarn_error_pct_normalised_after(e.stress_sim, e.stress_target, largest);
+    e.error_pct = results::yarn_error_pct_normalised_after(e.stress_sim, e.stress_target, largest);
     per_direction.push_back(e.error_pct);
     out.directions.push_back(std::move(e));
   }
-  out.bending_pct = reports::mean_over_directions(per_direction);
+  out.bending_pct = results::mean_over_directions(per_direction);
   return finish({});
 }
 

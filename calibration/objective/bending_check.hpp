@@ -9,7 +9,7 @@
 // upwards with warm starts, and σ_κ = dΨ/dκ is read by central differences (readouts.hpp).
 // A knitted tile curls at rest (stockinette: dΨ/dκ(0) ≈ ±5e-4 N, as large as the targets), a
 // shell does not: the comparison is of Δσ_κ(κ) = σ_κ(κ) − σ_κ(0), the bending stiffness
-// response, against the shell's 2 k_θ κ. Error (reports::yarn_error_pct_normalised_after):
+// response, against the shell's 2 k_θ κ. Error (results::yarn_error_pct_normalised_after):
 // mean |Δσ_κ − target| over the points divided by the largest |target|, in percent.
 
 #include <limits>

@@ -6,7 +6,7 @@
 #include <span>
 
 #include "fabrics_db/text_util.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "yarn_fit/homogenise/sensitivity.hpp"
 
 namespace yarnfit::calibration {
@@ -304,11 +304,11 @@ class Sweep {
     std::size_t n_comfort = 0;
     while (n_comfort < m_e.stretch.size() && m_e.stretch[n_comfort] <= m_e.scale.comfort_stretch + 1e-12) ++n_comfort;
     const std::span<const double> sim(m_e.stress_sim), tgt(m_e.stress_target);
-    m_e.stress_full_pct = reports::yarn_error_pct(sim, tgt, m_e.scale.stress_norm);
+    m_e.stress_full_pct = results::yarn_error_pct(sim, tgt, m_e.scale.stress_norm);
     m_e.stress_comfort_pct = n_comfort > 0
-                                 ? reports::yarn_error_pct(sim.first(n_comfort), tgt.first(n_comfort), m_e.scale.stress_norm)
+                                 ? results::yarn_error_pct(sim.first(n_comfort), tgt.first(n_comfort), m_e.scale.stress_norm)
                                  : m_e.stress_full_pct;
-    m_e.compression_pct = reports::yarn_error_pct(m_e.compression_sim, m_e.compression_target, m_e.scale.compression_norm);
+    m_e.compression_pct = results::yarn_error_pct(m_e.compression_sim, m_e.compression_target, m_e.scale.compression_norm);
   }
 
   yarn::YarnSystem& m_system;

@@ -11,7 +11,7 @@
 
 #include "fabrics_db/text_util.hpp"
 #include "numerics/util/clock.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 
 namespace yarnfit::calibration {

@@ -35,7 +35,7 @@
 // in two runs with different histories, and the swarm's cutoff, its resume and the local
 // step all rely on g being a function of p.
 //
-// Reported errors (SPEC §3 "Error metrics", Fig. 6.15; reports::yarn_error_pct): mean
+// Reported errors (SPEC §3 "Error metrics", Fig. 6.15; results::yarn_error_pct): mean
 // absolute error divided by the largest comfort-range target, in percent: stress over the
 // comfort-range samples, stress over all samples, compression over all samples.
 

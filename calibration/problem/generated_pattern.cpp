@@ -55,7 +55,7 @@ bool make_generated_pattern(db::Fabric& fabric, const fs::path& cache, db::Probl
   }
   fs::create_directories(cache, ec);
   db::write_pyp(generated.tile, file);
-  db::write_text_file_atomically(cache / (generated_tile_stem(knit) + ".json"), yarn::to_json(generated).dump(2) + "\n");
+  db::write_text_file_atomically(cache / (generated_tile_stem(knit) + ".json"), results::to_json(yarn::to_file(generated)).dump(2) + "\n");
   pattern.file = file;
   pattern.tile = std::move(generated.tile);
   pattern.facts = db::compute_tile_facts(pattern.tile);

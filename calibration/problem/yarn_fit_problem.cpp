@@ -78,12 +78,12 @@ YarnFitResult fit_yarn(const YarnFitProblem& problem, const YarnFitSettings& set
   return fit_yarn_params(problem.tile, problem.targets, problem.scales, s);
 }
 
-nlohmann::json to_json(const YarnFitProblem& problem, const YarnFitResult& result, const YarnFitSettings& settings) {
-  nlohmann::json j = to_json(result, settings_for(problem, settings));
-  j["fabric"] = problem.fabric_id;
-  j["family"] = problem.family;
-  j["targets"] = problem.targets_source;
-  return j;
+results::YarnFitFile to_file(const YarnFitProblem& problem, const YarnFitResult& result, const YarnFitSettings& settings) {
+  results::YarnFitFile f = to_file(result, settings_for(problem, settings));
+  f.fabric = problem.fabric_id;
+  f.family = problem.family;
+  f.targets = problem.targets_source;
+  return f;
 }
 
 }  // namespace yarnfit::calibration

@@ -61,8 +61,8 @@ YarnFitSettings settings_for(const YarnFitProblem& problem, YarnFitSettings sett
 // std::invalid_argument for invalid settings or targets.
 YarnFitResult fit_yarn(const YarnFitProblem& problem, const YarnFitSettings& settings);
 
-// yarn_fit.json: to_json(result, settings_for(problem, settings)) with the fabric's id and
-// the targets' source.
-nlohmann::json to_json(const YarnFitProblem& problem, const YarnFitResult& result, const YarnFitSettings& settings);
+// What yarn_fit.json holds: to_file(result, settings_for(problem, settings)) with the fabric's
+// id and family and the targets' source.
+results::YarnFitFile to_file(const YarnFitProblem& problem, const YarnFitResult& result, const YarnFitSettings& settings);
 
 }  // namespace yarnfit::calibration

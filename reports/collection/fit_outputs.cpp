@@ -1,35 +1,24 @@
 #include "reports/collection/fit_outputs.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace yarnfit::reports {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 namespace {
 
-// The file's JSON, or null with a problem when it exists and cannot be parsed.
-json read_json(const fs::path& file, std::vector<std::string>& problems) {
-  if (!fs::exists(file)) return nullptr;
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  json j = json::parse(text.str(), nullptr, false);
-  if (j.is_discarded() || !j.is_object()) {
-    problems.push_back(file.string() + ": not a JSON object (left out of the report)");
-    return nullptr;
+// The file as its type, when it exists; a problem line when it cannot be read.
+template <class File, class Read>
+std::optional<File> read_result(const fs::path& file, Read read, std::vector<std::string>& problems) {
+  if (!fs::exists(file)) return std::nullopt;
+  try {
+    return read(file);
+  } catch (const std::runtime_error& e) {
+    problems.push_back(std::string(e.what()) + " (left out of the report)");
+    return std::nullopt;
   }
-  return j;
-}
-
-std::string string_or(const json& j, const char* key, const std::string& fallback) {
-  return j.is_object() && j.contains(key) && j[key].is_string() && !j[key].get<std::string>().empty()
-             ? j[key].get<std::string>()
-             : fallback;
 }
 
 }  // namespace
@@ -38,17 +27,18 @@ FabricOutputs read_fit_outputs(const fs::path& folder, std::vector<std::string>&
   FabricOutputs f;
   f.folder = folder;
   const std::size_t problems_before = problems.size();
-  f.shell = read_json(folder / "shell_fit.json", problems);
-  f.yarn = read_json(folder / "yarn_fit.json", problems);
-  f.id = string_or(f.shell, "fabric", string_or(f.yarn, "fabric", folder.filename().string()));
-  f.family = string_or(f.shell, "family", string_or(f.yarn, "family", ""));
-  if (f.shell.is_object() && !f.shell.value("converged", false)) {
+  f.shell = read_result<results::ShellFitFile>(folder / "shell_fit.json", results::read_shell_fit_file, problems);
+  f.yarn = read_result<results::YarnFitFile>(folder / "yarn_fit.json", results::read_yarn_fit_file, problems);
+  const auto non_empty = [](const std::string& s, const std::string& fallback) { return s.empty() ? fallback : s; };
+  f.id = non_empty(f.shell ? f.shell->fabric : "", non_empty(f.yarn ? f.yarn->fabric : "", folder.filename().string()));
+  f.family = non_empty(f.shell ? f.shell->family : "", f.yarn ? f.yarn->family : "");
+  if (f.shell && !f.shell->converged) {
     f.status = "failed";
-    f.error = "shell fit did not converge: " + string_or(f.shell, "message", "no message");
-  } else if (f.yarn.is_object() && !f.yarn.value("ok", false)) {
+    f.error = "shell fit did not converge: " + non_empty(f.shell->message, "no message");
+  } else if (f.yarn && !f.yarn->ok) {
     f.status = "failed";
-    f.error = "yarn fit failed: " + string_or(f.yarn, "message", "no message");
-  } else if (f.shell.is_null() && f.yarn.is_null()) {
+    f.error = "yarn fit failed: " + non_empty(f.yarn->message, "no message");
+  } else if (!f.shell && !f.yarn) {
     f.status = "failed";
     f.error = problems.size() > problems_before ? problems.back()
                                                 : "no shell_fit.json or yarn_fit.json in " + folder.string();

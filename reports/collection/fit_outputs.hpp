@@ -1,14 +1,16 @@
 #pragma once
 // What a report reads: the output folders of `yarnfit fit` (shell_fit.json, yarn_fit.json),
 // one run at a time. A run is one batch output (its ledger says which fabrics failed and why;
-// batch/batch_report.hpp reads it) or a folder of `fit` outputs. The JSON is kept as written
-// (SPEC §5 names), so a report needs none of the fit types.
+// batch/batch_report.hpp reads it) or a folder of `fit` outputs. The files are read as the
+// result types (results/), so a report needs none of the fit types and no JSON key.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "results/shell_fit_file.hpp"
+#include "results/yarn_fit_file.hpp"
 
 namespace yarnfit::reports {
 
@@ -20,8 +22,8 @@ struct FabricOutputs {
   // that ran did not converge, done otherwise.
   std::string status = "done";
   std::string error;    // why it failed
-  nlohmann::json shell;  // shell_fit.json, or null
-  nlohmann::json yarn;   // yarn_fit.json, or null
+  std::optional<results::ShellFitFile> shell;  // shell_fit.json, when there is a readable one
+  std::optional<results::YarnFitFile> yarn;    // yarn_fit.json, when there is a readable one
 };
 
 struct RunOutputs {
@@ -31,8 +33,9 @@ struct RunOutputs {
   std::vector<std::string> problems;   // files that could not be read (the run goes on)
 };
 
-// One fabric's folder of `fit` outputs; `problems` gets one line per unreadable file. The id
-// and family come from the JSON (`fabric`, `family`), else the folder's name and "".
+// One fabric's folder of `fit` outputs; `problems` gets one line per unreadable file (naming
+// the field that could not be read). The id and family come from the files, else the folder's
+// name and "".
 FabricOutputs read_fit_outputs(const std::filesystem::path& folder, std::vector<std::string>& problems);
 
 // A folder of `fit` outputs, or a folder whose sub-folders are (each holding shell_fit.json).

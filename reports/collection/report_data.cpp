@@ -6,15 +6,15 @@
 #include <sstream>
 
 #include "numerics/util/format.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::reports {
 
 using nlohmann::json;
+using results::number_or_nan;
+using results::pct_json;
 
 namespace {
-
-double at(const json& j, const char* key) { return j.is_object() && j.contains(key) ? number_or_nan(j[key]) : k_nan; }
 
 // A CSV cell: the number with 10 significant digits, or empty for no figure.
 std::string cell(double v) {
@@ -57,28 +57,34 @@ FabricRow fabric_row(const FabricOutputs& f, const std::string& run, int run_ind
   r.error = f.error;
   r.outputs = &f;
   for (std::size_t i = 0; i < k_metrics.size(); ++i) {
-    const json& stage = std::string_view(k_metrics[i].stage) == "shell" ? f.shell : f.yarn;
-    if (stage.is_object() && stage.contains("errors")) r.metrics[i] = at(stage["errors"], k_metrics[i].json_key);
+    if (f.shell && k_metrics[i].shell_error) r.metrics[i] = f.shell->errors.*k_metrics[i].shell_error;
+    if (f.yarn && k_metrics[i].yarn_error) r.metrics[i] = f.yarn->errors.*k_metrics[i].yarn_error;
   }
   for (std::size_t i = 0; i < k_params.size(); ++i) {
-    const json& stage = std::string_view(k_params[i].stage) == "shell" ? f.shell : f.yarn;
-    if (stage.is_object() && stage.contains("params")) r.params[i] = at(stage["params"], k_params[i].key);
+    if (std::string_view(k_params[i].stage) == "shell") {
+      if (!f.shell) continue;
+      const auto p = f.shell->params.find(k_params[i].key);
+      if (p != f.shell->params.end() && p->second) r.params[i] = *p->second;
+    } else if (f.yarn) {
+      const auto p = f.yarn->params.find(k_params[i].key);
+      if (p != f.yarn->params.end()) r.params[i] = p->second;
+    }
   }
   double total = 0.0;
   bool any = false;
-  if (f.shell.is_object()) {
-    r.times[time_index("shell_inplane_s")] = f.shell.contains("inplane") ? at(f.shell["inplane"], "timing_s") : at(f.shell, "timing_s");
-    if (f.shell.contains("bending")) r.times[time_index("shell_bending_s")] = at(f.shell["bending"], "timing_s");
-    const double t = at(f.shell, "timing_s");
+  if (f.shell) {
+    r.times[time_index("shell_inplane_s")] = f.shell->inplane ? f.shell->inplane->timing_s : f.shell->timing_s;
+    if (f.shell->bending) r.times[time_index("shell_bending_s")] = f.shell->bending->timing_s;
+    const double t = f.shell->timing_s;
     if (std::isfinite(t)) total += t, any = true;
   }
-  if (f.yarn.is_object() && f.yarn.contains("timing_s")) {
-    const json& t = f.yarn["timing_s"];
-    r.times[time_index("yarn_swarm_s")] = at(t, "swarm");
-    r.times[time_index("yarn_local_s")] = at(t, "local");
-    r.times[time_index("yarn_bending_check_s")] = at(t, "bending_check");
-    r.times[time_index("yarn_profile_s")] = at(t, "profile");
-    const double yt = at(t, "total");
+  if (f.yarn) {
+    const results::YarnTiming& t = f.yarn->timing_s;
+    r.times[time_index("yarn_swarm_s")] = t.swarm;
+    r.times[time_index("yarn_local_s")] = t.local;
+    r.times[time_index("yarn_bending_check_s")] = t.bending_check;
+    r.times[time_index("yarn_profile_s")] = t.profile;
+    const double yt = t.total;
     if (std::isfinite(yt)) total += yt, any = true;
   }
   r.times[time_index("total_s")] = any ? total : k_nan;
@@ -180,15 +186,13 @@ json report_json(const ReportData& data) {
     json row = {{"id", r.id},         {"family", r.family}, {"run", r.run}, {"status", r.status},
                 {"error", r.error.empty() ? json() : json(r.error)}, {"stages", r.has_yarn() ? "shell+yarn" : "shell"},
                 {"metrics", m},       {"params", p},        {"times_s", t}};
-    if (r.has_yarn() && r.outputs->yarn.contains("errors_by_direction"))
-      row["yarn_errors_by_direction"] = r.outputs->yarn["errors_by_direction"];
-    if (r.has_shell() && r.outputs->shell.contains("directions")) {
+    if (r.has_yarn()) row["yarn_errors_by_direction"] = results::direction_errors_json(r.outputs->yarn->errors_by_direction);
+    if (r.has_shell()) {
       json dirs = json::object();
-      for (const auto& d : r.outputs->shell["directions"])
-        dirs[d.value("direction", std::string("?"))] = {
-            {"force_pct", pct_json(shell_error_pct_json(d.value("measured_force_N", json()), d.value("simulated_force_N", json())))},
-            {"compression_pct",
-             pct_json(shell_error_pct_json(d.value("measured_compression", json()), d.value("simulated_compression", json())))}};
+      for (const auto& d : r.outputs->shell->directions) {
+        const results::ShellDirectionErrors e = r.outputs->shell->direction_errors(d.direction);
+        dirs[d.direction] = {{"force_pct", pct_json(e.stretch_force_pct)}, {"compression_pct", pct_json(e.compression_pct)}};
+      }
       row["shell_errors_by_direction"] = dirs;
     }
     return row;

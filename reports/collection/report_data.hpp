@@ -3,9 +3,10 @@
 // these): one row per fabric, the statistics per family (Table 6.1 of the thesis), and the
 // runs with what their accuracy cost in time.
 //
-// Every figure is read from the fits' JSON as they wrote it (SPEC §3 error metrics, SPEC §5
-// names); nothing is recomputed here, so the report says what the fits said. A test
-// recomputes them from the curves (tests/reports/report/test_report_numbers.cpp).
+// Every figure is read from the fits' result files as they wrote them (SPEC §3 error metrics,
+// results/ types), the per-direction ones included; nothing is recomputed here, so the report
+// says what the fits said. A test recomputes them from the curves
+// (tests/reports/report/test_report_cli.cpp).
 //
 // When several runs hold the same fabric, the fabric's row is its *last* run's (runs in the
 // order given): the families and the per-fabric sections show that one, and the comparison
@@ -31,16 +32,17 @@ struct MetricInfo {
   const char* key;        // report.json / CSV name
   const char* stage;      // shell or yarn
   const char* label;      // what the page calls it
-  const char* json_key;   // its name under `errors` of shell_fit.json / yarn_fit.json
+  double results::ShellErrors::*shell_error = nullptr;  // the figure of the stage's errors
+  double results::YarnErrors::*yarn_error = nullptr;
 };
 inline constexpr std::array<MetricInfo, 7> k_metrics{{
-    {"shell_force_pct", "shell", "force", "stretch_force_pct"},
-    {"shell_compression_pct", "shell", "compression", "compression_pct"},
-    {"shell_aspect_ratio_pct", "shell", "aspect ratio", "bending_pct"},
-    {"yarn_stress_comfort_pct", "yarn", "stress, comfort range", "stress_comfort_pct"},
-    {"yarn_stress_full_pct", "yarn", "stress, full range", "stress_full_pct"},
-    {"yarn_compression_pct", "yarn", "compression", "compression_pct"},
-    {"yarn_bending_pct", "yarn", "bending", "bending_pct"},
+    {"shell_force_pct", "shell", "force", &results::ShellErrors::stretch_force_pct, nullptr},
+    {"shell_compression_pct", "shell", "compression", &results::ShellErrors::compression_pct, nullptr},
+    {"shell_aspect_ratio_pct", "shell", "aspect ratio", &results::ShellErrors::bending_pct, nullptr},
+    {"yarn_stress_comfort_pct", "yarn", "stress, comfort range", nullptr, &results::YarnErrors::stress_comfort_pct},
+    {"yarn_stress_full_pct", "yarn", "stress, full range", nullptr, &results::YarnErrors::stress_full_pct},
+    {"yarn_compression_pct", "yarn", "compression", nullptr, &results::YarnErrors::compression_pct},
+    {"yarn_bending_pct", "yarn", "bending", nullptr, &results::YarnErrors::bending_pct},
 }};
 
 struct ParamInfo {
@@ -100,8 +102,8 @@ struct FabricRow {
   FabricRow() { metrics.fill(k_nan), params.fill(k_nan), times.fill(k_nan); }
   [[nodiscard]] double metric(std::string_view key) const { return metrics.at(metric_index(key)); }
   [[nodiscard]] double total_seconds() const { return times.at(time_index("total_s")); }
-  [[nodiscard]] bool has_shell() const { return outputs && outputs->shell.is_object(); }
-  [[nodiscard]] bool has_yarn() const { return outputs && outputs->yarn.is_object(); }
+  [[nodiscard]] bool has_shell() const { return outputs && outputs->shell.has_value(); }
+  [[nodiscard]] bool has_yarn() const { return outputs && outputs->yarn.has_value(); }
   // The figure the run comparison ranks by: the yarn comfort-range stress error when the yarn
   // stage ran, else the shell force error.
   [[nodiscard]] double headline_pct() const;

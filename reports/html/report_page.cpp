@@ -1,16 +1,17 @@
 #include "reports/html/report_page.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "reports/html/svg_plot.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::reports {
 
-using nlohmann::json;
+using results::number_or_nan;
 using svg::escape;
 using svg::number_label;
 
@@ -63,13 +64,6 @@ std::string anchor(const std::string& id) {
   std::string a = "fabric-";
   for (char c : id) a += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
   return a;
-}
-
-std::vector<double> numbers(const json& j, const char* key, double scale = 1.0) {
-  std::vector<double> v;
-  if (!j.is_object() || !j.contains(key) || !j[key].is_array()) return v;
-  for (const auto& x : j[key]) v.push_back(x.is_number() ? x.get<double>() * scale : k_nan);
-  return v;
 }
 
 std::string attrs(const std::string& plot, const std::string& key = "", const std::string& value = "") {
@@ -331,21 +325,27 @@ svg::XYPlot curve_plot(const char* title, const char* x_label, const char* y_lab
 }
 
 // A measured (or target) curve drawn as markers and its model as a line, in the direction's
-// colour: `data_key` and `model_key` name the arrays of one direction's JSON entry.
+// colour: `data` and `model` are one direction's curves.
 struct CurvePair {
   svg::XYPlot* plot;
-  const char* data_key;
-  const char* model_key;
+  const std::vector<double>& data;
+  const std::vector<double>& model;
   double scale;  // of the values (fractions to %)
   const char* data_label;
   const char* model_label;
 };
 
-void add_direction(const json& d, const char* x_key, double x_scale, std::initializer_list<CurvePair> pairs) {
-  const std::string dir = d.value("direction", std::string("?"));
-  const auto x = numbers(d, x_key, x_scale);
+std::vector<double> scaled(const std::vector<double>& values, double scale) {
+  std::vector<double> v;
+  for (double x : values) v.push_back(x * scale);
+  return v;
+}
+
+void add_direction(const std::string& dir, const std::vector<double>& x_values, double x_scale,
+                   std::initializer_list<CurvePair> pairs) {
+  const auto x = scaled(x_values, x_scale);
   for (const CurvePair& c : pairs) {
-    auto data = numbers(d, c.data_key, c.scale), model = numbers(d, c.model_key, c.scale);
+    auto data = scaled(c.data, c.scale), model = scaled(c.model, c.scale);
     if (!data.empty()) c.plot->series.push_back({dir + " " + c.data_label, x, data, direction_colour(dir), false, true});
     if (!model.empty())
       c.plot->series.push_back({dir + " " + c.model_label, x, model, direction_colour(dir), true, false});
@@ -353,41 +353,41 @@ void add_direction(const json& d, const char* x_key, double x_scale, std::initia
 }
 
 void shell_plots(std::ostringstream& h, const FabricRow& r) {
-  const json& s = r.outputs->shell;
-  if (!s.contains("directions")) return;
+  const results::ShellFitFile& s = *r.outputs->shell;
+  if (s.directions.empty()) return;
   svg::XYPlot force = curve_plot("Stretch test: force", "stretch s [%]", "force [N]");
   svg::XYPlot comp = curve_plot("Stretch test: lateral compression", "stretch s [%]", "compression c [%]");
-  for (const auto& d : s["directions"])
-    add_direction(d, "stretch", 100.0,
-                  {{&force, "measured_force_N", "simulated_force_N", 1.0, "measured", "shell model"},
-                   {&comp, "measured_compression", "simulated_compression", 100.0, "measured", "shell model"}});
+  for (const auto& d : s.directions)
+    add_direction(d.direction, d.stretch, 100.0,
+                  {{&force, d.measured_force_N, d.simulated_force_N, 1.0, "measured", "shell model"},
+                   {&comp, d.measured_compression, d.simulated_compression, 100.0, "measured", "shell model"}});
   force.attributes = attrs("fabric-shell-force", "fabric", r.id);
   comp.attributes = attrs("fabric-shell-compression", "fabric", r.id);
   h << svg::render(force);
   if (!comp.series.empty()) h << svg::render(comp);
-  if (s.contains("bending") && s["bending"].contains("curves")) {
+  if (s.bending) {
     svg::XYPlot b = curve_plot("Pear loop: aspect ratio", "clamp distance [mm]", "aspect ratio [–]");
     b.y_from_zero = false;
-    for (const auto& d : s["bending"]["curves"])
-      add_direction(d, "clamp_distance_m", 1e3,
-                    {{&b, "measured_aspect_ratio", "simulated_aspect_ratio", 1.0, "measured", "shell model"}});
+    for (const auto& d : s.bending->curves)
+      add_direction(d.direction, d.clamp_distance_m, 1e3,
+                    {{&b, d.measured_aspect_ratio, d.simulated_aspect_ratio, 1.0, "measured", "shell model"}});
     b.attributes = attrs("fabric-shell-bending", "fabric", r.id);
     h << svg::render(b);
   }
 }
 
 void yarn_plots(std::ostringstream& h, const FabricRow& r) {
-  const json& y = r.outputs->yarn;
-  if (!y.contains("curves")) return;
+  const results::YarnFitFile& y = *r.outputs->yarn;
+  if (y.curves.empty()) return;
   svg::XYPlot st = curve_plot("Uniform targets: stress", "stretch s [%]", "2nd Piola–Kirchhoff stress S [N/m]");
   svg::XYPlot comp = curve_plot("Uniform targets: compression", "stretch s [%]", "compression c [%]");
-  for (const auto& d : y["curves"]) {
-    add_direction(d, "stretch", 100.0,
-                  {{&st, "target_S_N_per_m", "simulated_S_N_per_m", 1.0, "target", "yarn model"},
-                   {&comp, "target_compression", "simulated_compression", 100.0, "target", "yarn model"}});
-    const std::string dir = d.value("direction", std::string("?"));
-    if (y.contains("errors_by_direction") && y["errors_by_direction"].contains(dir)) {
-      const double c = number_or_nan(y["errors_by_direction"][dir].value("comfort_stretch", json()));
+  for (const auto& d : y.curves) {
+    const std::string& dir = d.direction;
+    add_direction(dir, d.stretch, 100.0,
+                  {{&st, d.target_S_N_per_m, d.simulated_S_N_per_m, 1.0, "target", "yarn model"},
+                   {&comp, d.target_compression, d.simulated_compression, 100.0, "target", "yarn model"}});
+    if (const auto e = y.errors_by_direction.find(dir); e != y.errors_by_direction.end()) {
+      const double c = e->second.comfort_stretch;
       st.marks.push_back({100.0 * c, direction_colour(dir), dir + " end of comfort range"});
       comp.marks.push_back({100.0 * c, direction_colour(dir), ""});
     }
@@ -397,12 +397,33 @@ void yarn_plots(std::ostringstream& h, const FabricRow& r) {
   h << svg::render(st) << svg::render(comp);
 }
 
-std::set<std::string> strings(const json& j, const char* key) {
-  std::set<std::string> out;
-  if (j.is_object() && j.contains(key) && j[key].is_array())
-    for (const auto& s : j[key])
-      if (s.is_string()) out.insert(s.get<std::string>());
-  return out;
+// A parameter's search range and whether it ended on it (one of `on_bound`); false when it was
+// not searched.
+bool searched_parameter(const std::map<std::string, results::SearchBound>& bounds,
+                        const std::vector<std::string>& on_bound, const std::string& name, svg::BoundedValue& v) {
+  const auto bound = bounds.find(name);
+  if (bound == bounds.end()) return false;
+  v.lower = bound->second.lower;
+  v.upper = bound->second.upper;
+  v.log = bound->second.log;
+  v.on_bound = std::find(on_bound.begin(), on_bound.end(), name) != on_bound.end();
+  return true;
+}
+
+bool shell_parameter(const results::ShellFitFile& shell, const std::string& name, svg::BoundedValue& v) {
+  return searched_parameter(shell.bounds, shell.at_bounds, name, v);
+}
+
+// The same for a yarn parameter, with how far the targets pin it (its identifiability).
+bool yarn_parameter(const results::YarnFitFile& yarn, const std::string& name, svg::BoundedValue& v) {
+  if (!searched_parameter(yarn.bounds, yarn.on_bound, name, v)) return false;
+  if (!yarn.identifiability) return true;
+  const auto e = yarn.identifiability->parameters.find(name);
+  if (e != yarn.identifiability->parameters.end()) {
+    v.range_refit = e->second.free ? std::numeric_limits<double>::infinity() : e->second.range_factor;
+    v.range_held = e->second.range_alone_factor;
+  }
+  return true;
 }
 
 void parameter_plot(std::ostringstream& h, const FabricRow& r) {
@@ -415,30 +436,19 @@ void parameter_plot(std::ostringstream& h, const FabricRow& r) {
     for (std::size_t i = 0; i < k_params.size(); ++i)
       if (std::string_view(k_params[i].stage) == stage_name) order.push_back(i);
   for (const std::size_t i : order) {
-    const json& stage = std::string_view(k_params[i].stage) == "shell" ? r.outputs->shell : r.outputs->yarn;
-    if (!stage.is_object() || !std::isfinite(r.params[i])) continue;
+    const bool shell = std::string_view(k_params[i].stage) == "shell";
+    if (!(shell ? r.has_shell() : r.has_yarn()) || !std::isfinite(r.params[i])) continue;
     const std::string name = k_params[i].key;
-    const json bounds = stage.contains("bounds") && stage["bounds"].contains(name) ? stage["bounds"][name] : json();
-    if (bounds.is_null()) {
+    svg::BoundedValue v;
+    const bool searched = shell ? shell_parameter(*r.outputs->shell, name, v) : yarn_parameter(*r.outputs->yarn, name, v);
+    if (!searched) {
       fixed.push_back(name + " = " + number_label(r.params[i]) + " " + k_params[i].unit);
       continue;
     }
-    svg::BoundedValue v;
     v.name = name;
     v.unit = k_params[i].unit;
     v.value = r.params[i];
-    v.lower = number_or_nan(bounds.value("lower", json()));
-    v.upper = number_or_nan(bounds.value("upper", json()));
-    v.log = bounds.value("log", true);
     if (!v.log) v.name += " (linear)";
-    v.on_bound = strings(stage, "on_bound").count(name) + strings(stage, "at_bounds").count(name) > 0;
-    if (stage.contains("identifiability") && stage["identifiability"].contains("parameters") &&
-        stage["identifiability"]["parameters"].contains(name)) {
-      const json& e = stage["identifiability"]["parameters"][name];
-      const bool free = e.value("free", false);
-      v.range_refit = free ? std::numeric_limits<double>::infinity() : number_or_nan(e.value("range_factor", json()));
-      v.range_held = number_or_nan(e.value("range_alone_factor", json()));
-    }
     p.values.push_back(v);
   }
   if (!p.values.empty()) {
@@ -452,16 +462,23 @@ void parameter_plot(std::ostringstream& h, const FabricRow& r) {
   }
 }
 
-void list_json(std::ostringstream& h, const json& j) {
-  if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i) h << (i ? ", " : "") << escape(j[i].is_string() ? j[i].get<std::string>() : j[i].dump());
-  } else if (j.is_object()) {
-    bool first = true;
-    for (const auto& [k, v] : j.items()) {
-      h << (first ? "" : "; ") << "<b>" << escape(k) << "</b>: ";
-      list_json(h, v);
-      first = false;
-    }
+// "Not identified: a; b" (sorted, each once), nothing for an empty list.
+void identification_note(std::ostringstream& h, const char* what, const std::vector<std::string>& items) {
+  const std::set<std::string> list(items.begin(), items.end());
+  if (list.empty()) return;
+  h << "<p class=\"note\">" << what << ": ";
+  bool first = true;
+  for (const auto& s : list) h << (first ? "" : "; ") << escape(s), first = false;
+  h << "</p>";
+}
+
+// "<b>scene</b>: effect, effect; …".
+void list_effects(std::ostringstream& h, const std::map<std::string, std::vector<std::string>>& effects) {
+  bool first = true;
+  for (const auto& [scene, list] : effects) {
+    h << (first ? "" : "; ") << "<b>" << escape(scene) << "</b>: ";
+    for (std::size_t i = 0; i < list.size(); ++i) h << (i ? ", " : "") << escape(list[i]);
+    first = false;
   }
 }
 
@@ -472,8 +489,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   if (!r.error.empty()) h << "<p class=\"fail\">" << escape(r.error) << "</p>";
   if (r.has_shell()) {
     // shell_fit.json names its in-plane law; outputs from before the choice existed are eq. 6.1.
-    const auto& shell = r.outputs->shell;
-    const std::string model = shell.contains("model") && shell["model"].is_string() ? shell["model"].get<std::string>() : "thesis";
+    const std::string& model = r.outputs->shell->model;
     h << "<p class=\"note\" data-shell-model=\"" << escape(model) << "\">shell model: " << escape(model)
       << (model == "stiffening" ? " (eq. 6.1 with exponential lock-up per material direction and lateral shares)"
                                   : " (eq. 6.1)") << "</p>";
@@ -503,26 +519,23 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   if (r.has_yarn()) h << "<th>yarn stress, comfort</th><th>yarn stress, full</th><th>yarn compression</th><th>yarn bending</th>";
   h << "</tr>";
   std::set<std::string> dirs;
-  if (r.has_shell() && r.outputs->shell.contains("directions"))
-    for (const auto& d : r.outputs->shell["directions"]) dirs.insert(d.value("direction", std::string("?")));
-  if (r.has_yarn() && r.outputs->yarn.contains("errors_by_direction"))
-    for (const auto& [k, v] : r.outputs->yarn["errors_by_direction"].items()) dirs.insert(k);
+  if (r.has_shell())
+    for (const auto& d : r.outputs->shell->directions) dirs.insert(d.direction);
+  if (r.has_yarn())
+    for (const auto& [dir, e] : r.outputs->yarn->errors_by_direction) dirs.insert(dir);
   for (const char* dir : {"weft", "bias", "warp"}) {
     if (!dirs.count(dir)) continue;
     h << "<tr><td class=\"l\">" << dir << "</td>";
-    double f = k_nan, c = k_nan;
-    if (r.has_shell() && r.outputs->shell.contains("directions"))
-      for (const auto& d : r.outputs->shell["directions"])
-        if (d.value("direction", std::string()) == dir) {
-          f = shell_error_pct_json(d.value("measured_force_N", json()), d.value("simulated_force_N", json()));
-          c = shell_error_pct_json(d.value("measured_compression", json()), d.value("simulated_compression", json()));
-        }
-    h << pct_cell(f) << pct_cell(c);
+    const results::ShellDirectionErrors shell =
+        r.has_shell() ? r.outputs->shell->direction_errors(dir) : results::ShellDirectionErrors{k_nan, k_nan, k_nan};
+    h << pct_cell(shell.stretch_force_pct) << pct_cell(shell.compression_pct);
     if (r.has_yarn()) {
-      const json& e = r.outputs->yarn.value("errors_by_direction", json::object());
-      const json dj = e.contains(dir) ? e[dir] : json::object();
-      for (const char* k : {"stress_comfort_pct", "stress_full_pct", "compression_pct", "bending_pct"})
-        h << pct_cell(number_or_nan(dj.value(k, json())));
+      const auto& by_direction = r.outputs->yarn->errors_by_direction;
+      const auto e = by_direction.find(dir);
+      const results::YarnDirectionErrors none = results::YarnDirectionErrors::none();
+      const results::YarnDirectionErrors& y = e == by_direction.end() ? none : e->second;
+      for (double v : {y.stress_comfort_pct, y.stress_full_pct, y.compression_pct, y.bending_pct.value_or(k_nan)})
+        h << pct_cell(v);
     }
     h << "</tr>";
   }
@@ -539,17 +552,9 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   h << "</div>";
   parameter_plot(h, r);
   // Identification notes.
-  for (const json* stage : {&r.outputs->shell, &r.outputs->yarn}) {
-    if (!stage->is_object()) continue;
-    for (const char* key : {"not_identified", "weakly_identified"}) {
-      const auto list = strings(*stage, key);
-      if (list.empty()) continue;
-      h << "<p class=\"note\">" << (std::string_view(key) == "not_identified" ? "Not identified" : "Weakly identified")
-        << ": ";
-      bool first = true;
-      for (const auto& s : list) h << (first ? "" : "; ") << escape(s), first = false;
-      h << "</p>";
-    }
+  if (r.has_shell()) {
+    identification_note(h, "Not identified", r.outputs->shell->not_identified);
+    identification_note(h, "Weakly identified", r.outputs->shell->weakly_identified);
   }
   // Time per stage and the effects simulated.
   h << "<table><tr>";
@@ -557,10 +562,11 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
   h << "</tr><tr>";
   for (double t : r.times) h << "<td>" << seconds_text(t) << "</td>";
   h << "</tr></table><p class=\"note\">Effects simulated — shell: ";
-  if (r.has_shell()) list_json(h, r.outputs->shell.value("effects", json()));
+  if (r.has_shell()) list_effects(h, r.outputs->shell->effects);
   if (r.has_yarn()) {
     h << "; yarn: ";
-    list_json(h, r.outputs->yarn.value("effects", json()));
+    const auto& effects = r.outputs->yarn->effects;
+    for (std::size_t i = 0; i < effects.size(); ++i) h << (i ? ", " : "") << escape(effects[i]);
   }
   h << ". Files: <code>" << escape(r.outputs->folder.string()) << "</code></p></section>";
 }

@@ -8,8 +8,8 @@
 
 namespace yarnfit::reports {
 
-std::string fit_summary(const std::string& fabric_id, const std::string& fabric_folder, const nlohmann::json& shell_fit,
-                        const nlohmann::json& yarn_fit, const StageSeconds& seconds) {
+std::string fit_summary(const std::string& fabric_id, const std::string& fabric_folder,
+                        const results::ShellFitFile& shell_fit, const results::YarnFitFile& yarn_fit, const StageSeconds& seconds) {
   std::ostringstream summary;
   summary << "fabric " << fabric_id << " (" << fabric_folder << ")\n\n"
           << shell_summary(shell_fit, seconds.shell) << "\n"
@@ -19,7 +19,7 @@ std::string fit_summary(const std::string& fabric_id, const std::string& fabric_
   return summary.str();
 }
 
-std::string yarn_summary_file(const std::string& fabric_id, const std::string& targets, const nlohmann::json& yarn_fit) {
+std::string yarn_summary_file(const std::string& fabric_id, const std::string& targets, const results::YarnFitFile& yarn_fit) {
   return "fabric " + fabric_id + ", targets " + targets + "\n" + yarn_summary(yarn_fit);
 }
 

@@ -18,4 +18,9 @@ inline std::string number_text(const nlohmann::json& v, int digits = 4) {
   return v.is_number() ? db::format_g(v.get<double>(), digits) : std::string("-");
 }
 
+// A number with `digits` significant digits, "-" when there is none (NaN).
+inline std::string number_text(double v, int digits = 4) {
+  return std::isfinite(v) ? db::format_g(v, digits) : std::string("-");
+}
+
 }  // namespace yarnfit::reports

@@ -9,14 +9,13 @@
 #include <vector>
 
 #include "fabrics_db/text_util.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "reports/summaries/text.hpp"
 
 namespace yarnfit::reports {
 
 namespace {
 
-using nlohmann::json;
 constexpr double k_inf = std::numeric_limits<double>::infinity();
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 
@@ -24,17 +23,8 @@ constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
 // kb, R1, kc1}); JSON objects sort their keys, the tables keep this order.
 const char* const k_fitted[] = {"ks1", "eps_s", "kb", "R1", "kc1"};
 
-const json& member(const json& j, const char* key) {
-  static const json none;
-  return j.is_object() && j.contains(key) ? j[key] : none;
-}
-
-// A factor written as a number, or as null with a flag saying whether it was unbounded.
-double factor(const json& entry, const char* key, const char* free_flag) {
-  const json& v = member(entry, key);
-  if (v.is_number()) return v.get<double>();
-  return member(entry, free_flag).is_boolean() && member(entry, free_flag).get<bool>() ? k_inf : k_nan;
-}
+// A range factor as the file holds it: NaN (null) means unbounded when the entry says "free".
+double factor(double f, bool free) { return std::isnan(f) && free ? k_inf : f; }
 
 // A range factor f as the user reads it: "±4.2 %" when small, "÷/× 3.1" when not.
 std::string range(double f) {
@@ -45,37 +35,34 @@ std::string range(double f) {
 }
 
 // Which fitted values the targets stand behind (yarn_fit.json's `identifiability`).
-std::string profile_summary(const json& p) {
-  const double step = number_or_nan(member(p, "step"));
-  if (!std::isfinite(step) || step == 0.0) return {};  // the profile was not asked for
+std::string profile_summary(const results::Identifiability& p) {
+  if (!std::isfinite(p.step) || p.step == 0.0) return {};  // the profile was not asked for
   std::ostringstream out;
-  const std::string message = p.value("message", std::string());
-  if (!p.value("computed", false)) {
-    out << "  identifiability: not computed (" << message << ")\n";
+  if (!p.computed) {
+    out << "  identifiability: not computed (" << p.message << ")\n";
     return out.str();
   }
-  const double g_fit = number_or_nan(member(p, "objective"));
-  const std::string f = db::format_g(1.0 + step, 3);
+  const std::string f = db::format_g(1.0 + p.step, 3);
   // From the Gauss–Newton step's exact Jacobian at the fit, the one-at-a-time g values are its
   // model's; from evaluations (the other local steps), they were simulated.
-  const bool model = p.value("from", std::string()) == "jacobian";
-  out << "  identifiability (g = " << db::format_g(g_fit, 3)
+  const bool model = p.from == "jacobian";
+  out << "  identifiability (g = " << db::format_g(p.objective, 3)
       << " at the fit; range: how far a parameter moves before g doubles; "
       << (model ? "from the exact Jacobian at the fit" : "from simulations at ÷/× " + f) << "):\n"
       << "    parameter  g at ÷" << f << " / ×" << f << (model ? " (model)" : "") << "    range, others re-fitted   others held\n";
   std::string downhill;
-  const json& entries = member(p, "parameters");
   for (const char* name : k_fitted) {
-    if (!entries.is_object() || !entries.contains(name)) continue;
-    const json& e = entries[name];
-    // A side that failed is written null: its g was +inf.
-    const double g_lower = e["objective_lower"].is_number() ? e["objective_lower"].get<double>() : k_inf;
-    const double g_upper = e["objective_upper"].is_number() ? e["objective_upper"].get<double>() : k_inf;
+    const auto it = p.parameters.find(name);
+    if (it == p.parameters.end()) continue;
+    const results::ProfileEntry& e = it->second;
+    // A side that failed has no figure: its g was +inf.
+    const double g_lower = std::isnan(e.objective_lower) ? k_inf : e.objective_lower;
+    const double g_upper = std::isnan(e.objective_upper) ? k_inf : e.objective_upper;
     const std::string g = db::format_g(g_lower, 3) + " / " + db::format_g(g_upper, 3);
     out << "    " << std::left << std::setw(9) << name << "  " << std::setw(22) << g << std::right << std::setw(19)
-        << range(factor(e, "range_factor", "free")) << std::setw(16) << range(factor(e, "range_alone_factor", "free_alone"))
+        << range(factor(e.range_factor, e.free)) << std::setw(16) << range(factor(e.range_alone_factor, e.free_alone))
         << "\n";
-    if (std::min(g_lower, g_upper) < 0.99 * g_fit) downhill += (downhill.empty() ? "" : ", ") + std::string(name);
+    if (std::min(g_lower, g_upper) < 0.99 * p.objective) downhill += (downhill.empty() ? "" : ", ") + std::string(name);
   }
   out << "    a range wider than the accuracy you need: the targets do not pin that parameter, and its value is one "
          "of many that fit as well\n";
@@ -83,143 +70,132 @@ std::string profile_summary(const json& p) {
   if (!downhill.empty())
     out << "    g falls by more than 1 % with " << downhill
         << " moved: the fit is not at a minimum there (ranges are rough; more --local-evaluations may help)\n";
-  if (!message.empty()) out << "    incomplete: " << message << "\n";
+  if (!p.message.empty()) out << "    incomplete: " << p.message << "\n";
   return out.str();
 }
 
-std::string settings_line(const json& s) {
+std::string settings_line(const results::YarnFitSettingsRecord& s) {
   std::ostringstream out;
-  const bool swarm = s.value("swarm", true);
-  const int nodes = s.value("local_compression_nodes", 0);
-  const json& staged = member(s, "staged");
-  const auto stage = [&](const char* name) {
-    const json& st = member(staged, name);
-    return std::to_string(st.value("particles", 0)) + " x " + std::to_string(st.value("iterations", 0)) + " on " +
-           std::to_string(st.value("samples", 0)) + " samples";
+  const int nodes = s.local_compression_nodes;
+  const auto stage = [](const results::SwarmStageSettings& st) {
+    return std::to_string(st.particles) + " x " + std::to_string(st.iterations) + " on " + std::to_string(st.samples) +
+           " samples";
   };
   std::string global;
-  if (!swarm) global = s.contains("start") ? "no global search, started from --start; " : "no global search; ";
-  else if (s.value("global_method", std::string("swarm")) == "staged")
-    global = "staged search (contact " + stage("contact") + ", all " + stage("all") + ", " +
-             std::to_string(staged.value("starts", 0)) + " local starts); ";
+  if (!s.swarm) global = s.start ? "no global search, started from --start; " : "no global search; ";
+  else if (s.global_method == "staged")
+    global = "staged search (contact " + stage(s.staged_contact) + ", all " + stage(s.staged_all) + ", " +
+             std::to_string(s.staged_starts) + " local starts); ";
   else
-    global = "swarm " + std::to_string(s.value("particles", 0)) + " particles x " + std::to_string(s.value("iterations", 0)) +
-             " iterations, " + std::to_string(s.value("swarm_samples", 0)) + " samples per direction; ";
-  const std::string method = s.value("local_method", std::string("?"));
+    global = "swarm " + std::to_string(s.particles) + " particles x " + std::to_string(s.iterations) + " iterations, " +
+             std::to_string(s.swarm_samples) + " samples per direction; ";
+  const std::string& method = s.local_method;
   out << "  settings: " << global << "local step " << method
-      << (method == "gauss-newton"
-              ? " (at most " + std::to_string(member(s, "alternation").value("max_rounds", 0)) + " rounds)"
-              : ", at most " + std::to_string(s.value("local_evaluations", 0)) + " evaluations")
-      << ", " << s.value("local_samples", 0) << " samples per direction; seed "
-      << s.value("seed", std::uint64_t{0}) << (s.value("linear_stretch", false) ? "; linear stretch (ks1 = ks2, eps_s = 0)" : "")
-      << (s.value("rest_shape", true) ? "" : "; no rest-shape heuristic")
-      << (s.value("rest_period", false) ? "; period relaxed per candidate" : "")
+      << (method == "gauss-newton" ? " (at most " + std::to_string(s.alternation_max_rounds) + " rounds)"
+                                   : ", at most " + std::to_string(s.local_evaluations) + " evaluations")
+      << ", " << s.local_samples << " samples per direction; seed " << s.seed
+      << (s.linear_stretch ? "; linear stretch (ks1 = ks2, eps_s = 0)" : "")
+      << (s.rest_shape ? "" : "; no rest-shape heuristic") << (s.rest_period ? "; period relaxed per candidate" : "")
       << (nodes == 0 ? std::string("; c* at every sample") : "; c* at " + std::to_string(nodes) + " samples, linear between")
       << "\n";
   return out.str();
 }
 
-}  // namespace
-
-std::string yarn_summary(const json& r) {
+// The errors table, one row per direction of the final curves.
+std::string errors_table(const results::YarnFitFile& r) {
   std::ostringstream out;
-  const bool ok = r.value("ok", false);
-  out << "yarn fit: " << (ok ? "ok" : "FAILED: " + r.value("message", std::string())) << "\n";
-  out << settings_line(member(r, "settings"));
   out << "  errors (mean abs. error / largest comfort-range target):\n";
   out << "    direction  stress comfort  stress full  compression  bending (checked, not fitted)\n";
-  const json& by_direction = member(r, "errors_by_direction");
-  const json& curves = member(r, "curves");
-  if (curves.is_array()) {
-    for (const auto& c : curves) {
-      const std::string name = c["direction"].get<std::string>();
-      const json& e = member(by_direction, name.c_str());
-      out << "    " << std::left << std::setw(9) << name << std::right << "  " << std::setw(14)
-          << pct(number_or_nan(member(e, "stress_comfort_pct"))) << "  " << std::setw(11)
-          << pct(number_or_nan(member(e, "stress_full_pct"))) << "  " << std::setw(11)
-          << pct(number_or_nan(member(e, "compression_pct"))) << "  " << std::setw(8)
-          << pct(number_or_nan(member(e, "bending_pct"))) << "\n";
-    }
+  for (const auto& c : r.curves) {
+    const auto it = r.errors_by_direction.find(c.direction);
+    const results::YarnDirectionErrors e =
+        it != r.errors_by_direction.end() ? it->second : results::YarnDirectionErrors::none();
+    out << "    " << std::left << std::setw(9) << c.direction << std::right << "  " << std::setw(14)
+        << pct(e.stress_comfort_pct) << "  " << std::setw(11) << pct(e.stress_full_pct) << "  " << std::setw(11)
+        << pct(e.compression_pct) << "  " << std::setw(8) << pct(e.bending_pct.value_or(k_nan)) << "\n";
   }
-  if (r.contains("errors_reason") && r["errors_reason"].is_string())
-    out << "  no errors: " << r["errors_reason"].get<std::string>() << "\n";
-  const json& check = member(r, "bending_check");
-  if (check.is_object() && !check.value("ok", true) && !check.value("message", std::string()).empty())
-    out << "  bending check failed: " << check["message"].get<std::string>() << "\n";
+  if (!r.errors_reason.empty()) out << "  no errors: " << r.errors_reason << "\n";
+  if (r.bending_check && !r.bending_check->ok && !r.bending_check->message.empty())
+    out << "  bending check failed: " << r.bending_check->message << "\n";
+  return out.str();
+}
 
-  const json& params = member(r, "params");
-  const json& bounds = member(r, "bounds");
-  std::vector<std::string> on_bound;
-  for (const auto& b : member(r, "on_bound")) on_bound.push_back(b.get<std::string>());
+// The fitted parameters on their bounds, then the fixed ones.
+std::string parameters_table(const results::YarnFitFile& r) {
+  std::ostringstream out;
+  const auto param = [&r](const std::string& name) {
+    const auto it = r.params.find(name);
+    return it == r.params.end() ? k_nan : it->second;
+  };
   out << "  parameters (SI):\n";
   for (const char* name : k_fitted) {
-    if (!bounds.is_object() || !bounds.contains(name)) continue;
-    const json& b = bounds[name];
-    const bool on = std::find(on_bound.begin(), on_bound.end(), name) != on_bound.end();
-    const double v = number_or_nan(member(params, name));
-    out << "    " << std::left << std::setw(6) << name << std::right << " = " << std::setw(12) << db::format_g(v, 5)
-        << "   in [" << db::format_g(b["lower"].get<double>(), 4) << ", " << db::format_g(b["upper"].get<double>(), 4)
-        << "]" << (b.value("log", false) ? " log" : "") << (on ? "   ON A BOUND" : "") << "\n";
+    const auto b = r.bounds.find(name);
+    if (b == r.bounds.end()) continue;
+    const bool on = std::find(r.on_bound.begin(), r.on_bound.end(), name) != r.on_bound.end();
+    out << "    " << std::left << std::setw(6) << name << std::right << " = " << std::setw(12)
+        << db::format_g(param(name), 5) << "   in [" << db::format_g(b->second.lower, 4) << ", "
+        << db::format_g(b->second.upper, 4) << "]" << (b->second.log ? " log" : "") << (on ? "   ON A BOUND" : "")
+        << "\n";
   }
-  for (const char* k : {"ks1", "eps_s", "ks2", "kc2", "R2"}) {
-    const bool optimised = bounds.is_object() && bounds.contains(k);
-    if (!optimised && params.is_object() && params.contains(k))
-      out << "    " << std::left << std::setw(6) << k << std::right << " = " << std::setw(12)
-          << db::format_g(params[k].get<double>(), 5) << "   fixed\n";
-  }
-  out << profile_summary(member(r, "identifiability"));
-  out << "  evaluations: " << r.value("evaluations", 0) << "\n";
-  const json& t = member(r, "timing_s");
-  const bool profiled = member(r, "identifiability").is_object() && r["identifiability"].value("computed", false);
-  out << "  time: global " << number_text(member(t, "swarm"), 3) << " s, local " << number_text(member(t, "local"), 3)
-      << " s" << (profiled ? ", profile " + number_text(member(t, "profile"), 3) + " s" : std::string()) << ", total "
-      << number_text(member(t, "total"), 3) << " s\n";
-  const json& global = member(member(r, "global"), "stages");
-  if (global.is_array() && !global.empty()) {
-    for (const auto& st : global)
-      out << "  " << st.value("stage", std::string()) << ": "
-          << (st.value("report", std::string()).empty() ? std::to_string(st.value("evaluations", 0)) + " evaluations"
-                                                         : st.value("report", std::string()))
-          << ", best g " << number_text(member(st, "best"), 4)
-          << (st.value("stopped_at_cutoff", 0) > 0
-                  ? "; " + std::to_string(st.value("stopped_at_cutoff", 0)) +
-                        " candidates stopped once they could not beat their particle's best"
-                  : std::string())
+  for (const char* k : {"ks1", "eps_s", "ks2", "kc2", "R2"})
+    if (!r.bounds.count(k) && r.params.count(k))
+      out << "    " << std::left << std::setw(6) << k << std::right << " = " << std::setw(12) << db::format_g(param(k), 5)
+          << "   fixed\n";
+  return out.str();
+}
+
+// Time per stage and the global and local searches' one-line reports.
+std::string search_lines(const results::YarnFitFile& r) {
+  std::ostringstream out;
+  const results::YarnTiming& t = r.timing_s;
+  const bool profiled = r.identifiability && r.identifiability->computed;
+  out << "  time: global " << number_text(t.swarm, 3) << " s, local " << number_text(t.local, 3) << " s"
+      << (profiled ? ", profile " + number_text(t.profile, 3) + " s" : std::string()) << ", total "
+      << number_text(t.total, 3) << " s\n";
+  if (r.global && !r.global->stages.empty()) {
+    for (const auto& st : r.global->stages)
+      out << "  " << st.stage << ": "
+          << (st.report.empty() ? std::to_string(st.evaluations) + " evaluations" : st.report) << ", best g "
+          << number_text(st.best, 4)
+          << (st.stopped_at_cutoff > 0 ? "; " + std::to_string(st.stopped_at_cutoff) +
+                                             " candidates stopped once they could not beat their particle's best"
+                                       : std::string())
           << "\n";
-  } else {
-    const json& swarm = member(r, "swarm");
-    if (swarm.is_object() && !member(swarm, "history").empty())
-      out << "  swarm: " << swarm.value("report", std::string()) << "; " << swarm.value("stopped_at_cutoff", 0)
-          << " candidates stopped once they could not beat their particle's best\n";
+  } else if (r.swarm && !r.swarm->history.empty()) {
+    out << "  swarm: " << r.swarm->report << "; " << r.swarm->stopped_at_cutoff
+        << " candidates stopped once they could not beat their particle's best\n";
   }
-  const json& local = member(r, "local");
-  const json& runs = member(local, "runs");
-  if (runs.is_array() && runs.size() > 1) {
+  if (r.local && r.local->runs.size() > 1) {
     int k = 0;
-    for (const auto& run : runs) out << "  local run " << ++k << ": " << run.value("report", std::string()) << "\n";
-  } else if (local.is_object()) {
-    out << "  local: " << local.value("report", std::string()) << "\n";
+    for (const auto& run : r.local->runs) out << "  local run " << ++k << ": " << run.report << "\n";
+  } else if (r.local) {
+    out << "  local: " << r.local->best.report << "\n";
   }
   return out.str();
 }
 
-std::string yarn_curves_csv(const json& r) {
+}  // namespace
+
+std::string yarn_summary(const results::YarnFitFile& r) {
+  std::ostringstream out;
+  out << "yarn fit: " << (r.ok ? "ok" : "FAILED: " + r.message) << "\n";
+  out << settings_line(r.settings) << errors_table(r) << parameters_table(r);
+  if (r.identifiability) out << profile_summary(*r.identifiability);
+  out << "  evaluations: " << r.evaluations << "\n" << search_lines(r);
+  return out.str();
+}
+
+std::string yarn_curves_csv(const results::YarnFitFile& r) {
   std::ostringstream csv;
   csv << std::setprecision(10);
   csv << "direction,sample,stretch,target_S_N_per_m,simulated_S_N_per_m,target_compression,simulated_compression,"
          "weight\n";
-  const json& curves = member(r, "curves");
-  if (!curves.is_array()) return csv.str();
-  for (const auto& d : curves) {
-    const json& stretch = member(d, "stretch");
-    for (std::size_t i = 0; i < stretch.size(); ++i) {
-      const auto at = [&d, i](const char* key) {
-        const json& v = member(d, key);
-        return v.is_array() && i < v.size() ? number_or_nan(v[i]) : k_nan;
-      };
-      csv << d["direction"].get<std::string>() << "," << i << "," << number_or_nan(stretch[i]) << ","
-          << at("target_S_N_per_m") << "," << at("simulated_S_N_per_m") << "," << at("target_compression") << ","
-          << at("simulated_compression") << "," << at("weight") << "\n";
+  for (const auto& d : r.curves) {
+    for (std::size_t i = 0; i < d.stretch.size(); ++i) {
+      const auto at = [i](const std::vector<double>& v) { return i < v.size() ? v[i] : k_nan; };
+      csv << d.direction << "," << i << "," << d.stretch[i] << "," << at(d.target_S_N_per_m) << ","
+          << at(d.simulated_S_N_per_m) << "," << at(d.target_compression) << "," << at(d.simulated_compression) << ","
+          << at(d.weight) << "\n";
     }
   }
   return csv.str();

@@ -5,7 +5,7 @@
 #include "numerics/roots/bisection.hpp"
 #include "numerics/util/clock.hpp"
 #include "numerics/util/format.hpp"
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
 
@@ -400,7 +400,7 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
 
   if (final_ok) {
     result.effects = cost->effects();
-    reports::ShellErrorSum error;
+    results::ShellErrorSum error;
     for (const auto& d : result.directions) error.add(d.measured_aspect_ratio, d.simulated_aspect_ratio);
     result.bending_pct = error.pct();
   } else {

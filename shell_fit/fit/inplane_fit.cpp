@@ -18,7 +18,7 @@
 #include <optional>
 #include <string>
 
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 
 namespace yarnfit::shell {
@@ -663,7 +663,7 @@ void record_solution(const StretchResiduals& cost, const std::vector<double>& q,
   }
   if (final_ok) {
     result.effects = cost.effects();
-    reports::ShellErrorSum force, compression;
+    results::ShellErrorSum force, compression;
     for (const auto& d : result.directions) {
       force.add(d.measured_force, d.simulated_force);
       if (!d.measured_compression.empty()) compression.add(d.measured_compression, d.simulated_compression);

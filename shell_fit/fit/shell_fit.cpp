@@ -6,8 +6,6 @@
 #include <stdexcept>
 
 #include "fabrics_db/text_util.hpp"
-#include "reports/metrics/error_metrics.hpp"
-#include "shell_fit/fit/shell_fit_report.hpp"
 
 namespace yarnfit::shell {
 
@@ -73,54 +71,6 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
   }
   result.targets = db::as_stored(generate_uniform_targets(result.params, result.ranges));
   return result;
-}
-
-nlohmann::json to_json(const ShellFitResult& r) {
-  nlohmann::json report = inplane_fit_json(r.inplane);
-  report["fabric"] = r.fabric_id;
-  report["family"] = r.family;
-  report["effects"] = r.effects;
-  for (const char* k : k_bending_names) report["params"][k] = nullptr;
-  report["errors"]["bending_pct"] = nullptr;
-  std::string bending_reason;
-  if (!r.has_bending_tests) {
-    report["not_identified"].push_back("ktheta_weft, ktheta_bias, ktheta_warp: no bending test (not fitted)");
-  } else if (!r.bending) {
-    bending_reason = "bending not fitted: the in-plane fit did not converge";
-  } else {
-    const BendingFitResult& b = *r.bending;
-    for (std::size_t k = 0; k < 3; ++k) report["params"][k_bending_names[k]] = b.params.ktheta[k];
-    report["errors"]["bending_pct"] = reports::pct_json(b.bending_pct);
-    for (const auto& s : b.identified) report["identified"].push_back(s);
-    for (const auto& s : b.not_identified) report["not_identified"].push_back(s);
-    for (const auto& s : b.at_bounds) report["at_bounds"].push_back(s);
-    const nlohmann::json bending_bounds = bounds_json(b.bounds);
-    for (const auto& [name, range] : bending_bounds.items()) report["bounds"][name] = range;
-    nlohmann::json curves = nlohmann::json::array();
-    for (const auto& d : b.directions)
-      curves.push_back({{"direction", std::string(db::to_string(d.direction))},
-                        {"clamp_distance_m", d.clamp_distance},
-                        {"measured_aspect_ratio", d.measured_aspect_ratio},
-                        {"simulated_aspect_ratio", d.simulated_aspect_ratio}});
-    if (!b.errors_reason.empty()) bending_reason = "bending: " + b.errors_reason;
-    report["bending"] = {{"converged", b.converged},
-                         {"message", b.message},
-                         {"iterations", b.iterations},
-                         {"simulations", b.simulations},
-                         {"timing_s", b.seconds},
-                         {"at_bounds", b.at_bounds},
-                         {"curves", curves},
-                         {"not_identified", b.not_identified},
-                         {"fallback_starts", b.fallback_starts},
-                         {"errors_reason", b.errors_reason.empty() ? nlohmann::json() : nlohmann::json(b.errors_reason)}};
-    report["timing_s"] = r.inplane.seconds + b.seconds;
-  }
-  if (!bending_reason.empty()) {
-    // One line for every null figure: the in-plane fit's reason first.
-    const std::string inplane = r.inplane.errors_reason;
-    report["errors_reason"] = inplane.empty() ? bending_reason : inplane + "; " + bending_reason;
-  }
-  return report;
 }
 
 std::array<std::optional<double>, k_shell_param_count> read_shell_params(const std::filesystem::path& file, db::Problems& problems) {

@@ -3,7 +3,7 @@
 // in-plane fit to the stretch tests (inplane_fit.hpp), then, when the fabric has pear-loop
 // tests and the in-plane fit converged, the bending fit with the in-plane model held
 // (bending_fit.hpp, thesis 6.3.2), then the uniform targets of the fitted model
-// (shell_fit/targets/uniform_targets.hpp) in memory. to_json gives shell_fit.json.
+// (shell_fit/targets/uniform_targets.hpp) in memory. to_file gives shell_fit.json's content.
 //
 //   const shell::ShellFitOptions options{...};
 //   if (const auto problems = options.problems(); !problems.empty()) ...;  // every bad field
@@ -23,6 +23,7 @@
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "reports/progress.hpp"
+#include "results/shell_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
@@ -78,12 +79,12 @@ struct ShellFitResult {
 // does not converge is a result (converged() false), never an exception.
 ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& options);
 
-// shell_fit.json (SPEC §5): model ("thesis" or "stiffening"), params {kxx, kxy, kyy, kss,
-// kn1, kn2, ktheta_weft, ktheta_bias, ktheta_warp} (k_θ null when not fitted) plus, for the
-// stiffening model, the lock-up pairs {lxx, bxx, lyy, byy, lss, bss}, the shares {axx, ayy} and thesis_model_fit, errors {stretch_force_pct, compression_pct,
-// bending_pct} (null where there is no figure, with errors_reason), identified,
-// not_identified, effects, timing_s, the in-plane details (inplane_fit_json) and `bending`.
-nlohmann::json to_json(const ShellFitResult& result);
+// The result as shell_fit.json holds it (SPEC §5; results/shell_fit_file.hpp, whose to_json
+// writes the file): model, params (k_θ empty when not fitted) plus, for the stiffening model,
+// the lock-up pairs and shares and thesis_model_fit, errors (NaN where there is no figure, with
+// errors_reason) and the errors per direction, identified, not_identified, effects, timing_s,
+// the in-plane details and the bending fit's (shell_fit_output.cpp).
+[[nodiscard]] results::ShellFitFile to_file(const ShellFitResult& result);
 
 // The keys of shell_fit.json's params, in this order: eq. 6.1's six, the three k_θ, then the
 // lock-up pairs and shares (absent from a thesis-model fit, where they are 0).

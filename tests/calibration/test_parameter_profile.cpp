@@ -90,9 +90,9 @@ TEST(ParameterProfile, PinsR1FarTighterThanKs1OnStockinette) {
   EXPECT_GT(eps_s.range_factor, 10.0);
   // The parameters are the ones the fit would report, not moved by the profile.
   EXPECT_EQ(p.g_fit, at_fit.value);
-  const nlohmann::json j = to_json(p);
-  EXPECT_TRUE(j["computed"].get<bool>());
-  EXPECT_EQ(j["parameters"]["R1"]["value"].get<double>(), fit.r1);
+  const results::Identifiability record = to_record(p);
+  EXPECT_TRUE(record.computed);
+  EXPECT_EQ(record.parameters.at("R1").value, fit.r1);
 }
 
 TEST(ParameterProfile, ReportsAnIncompleteFitInsteadOfProfilingIt) {

@@ -48,7 +48,7 @@ TEST(YarnCalibration, EveryCandidateFailingIsReportedWithItsReason) {
     EXPECT_NE(r.message.find(swarm ? "every swarm candidate failed" : "failed"), std::string::npos) << r.message;
     EXPECT_NE(r.message.find("max_iterations"), std::string::npos) << r.message;  // the solver's reason kept
     EXPECT_TRUE(r.bending.directions.empty());
-    const nlohmann::json j = to_json(r, s);
+    const nlohmann::json j = results::to_json(to_file(r, s));
     EXPECT_FALSE(j["ok"].get<bool>());
     EXPECT_TRUE(j["objective"].is_null());
     // No final evaluation: no errors (null, never 0 or a partial direction's) and the reason.
@@ -164,13 +164,13 @@ TEST(YarnCalibration, ImplicitFilteringLocalStepReturnsToKnownParameters) {
   EXPECT_LT(std::abs(off(r.params.kc1, truth.kc1)), 0.1);
   EXPECT_LT(std::abs(off(r.params.r1, truth.r1)), 0.002);
   EXPECT_EQ(r.params.ks1, st.scales.ks2);  // fixed by linear stretch, whatever the start said
-  const nlohmann::json j = to_json(r, s);
+  const nlohmann::json j = results::to_json(to_file(r, s));
   EXPECT_EQ(j["local"]["method"], "implicit-filtering");
   EXPECT_EQ(j["local"]["evaluations"].get<int>(), r.local.evaluations);
   ASSERT_EQ(j["local"]["history"].size(), static_cast<std::size_t>(r.local.iterations));
   EXPECT_EQ(j["local"]["history"].back()["best"].get<double>(), r.local.best_value);
   EXPECT_EQ(j["local"]["history"].back()["evaluations"].get<int>(), r.local.evaluations);
-  EXPECT_EQ(to_json(c, s)["settings"]["local_method"], "cobyla");
+  EXPECT_EQ(results::to_json(to_file(c, s))["settings"]["local_method"], "cobyla");
   EXPECT_NEAR(j["settings"]["start"]["kb"].get<double>(), start.kb, 1e-12 * start.kb);
 }
 

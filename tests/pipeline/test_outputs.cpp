@@ -44,15 +44,17 @@ TEST(Outputs, AShellStageThatFailedWritesItsTwoFilesOnly) {
 
 TEST(Outputs, AYarnFitsFolderFromItsJson) {
   ScratchDir dir("outputs_yarn");
-  const nlohmann::json yarn = {{"ok", true},
-                               {"fabric", "demo"},
-                               {"targets", "t.csv"},
-                               {"curves", nlohmann::json::array()},
-                               {"settings", {{"swarm", false}}}};
+  results::YarnFitFile yarn;
+  yarn.ok = true;
+  yarn.fabric = "demo";
+  yarn.targets = "t.csv";
+  yarn.settings.swarm = false;
   const std::string summary = write_yarn_outputs(yarn, dir / "out");
   EXPECT_EQ(summary.rfind("yarn fit: ok\n", 0), 0u) << summary;
   EXPECT_EQ(read_file(dir / "out" / "yarn_summary.txt"), "fabric demo, targets t.csv\n" + summary);
-  EXPECT_EQ(nlohmann::json::parse(read_file(dir / "out" / "yarn_fit.json")), yarn);
+  const auto written = nlohmann::json::parse(read_file(dir / "out" / "yarn_fit.json"));
+  EXPECT_EQ(written, results::to_json(yarn));
+  EXPECT_EQ(written["schema_version"], results::k_yarn_fit_schema_version);
   EXPECT_EQ(read_file(dir / "out" / "yarn_curves.csv").rfind("direction,sample,stretch,", 0), 0u);
 }
 

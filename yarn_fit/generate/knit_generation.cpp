@@ -1,5 +1,7 @@
 #include "yarn_fit/generate/knit_generation.hpp"
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -106,30 +108,29 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
   return out;
 }
 
-nlohmann::json to_json(const GeneratedTile& t) {
-  const double wales_per_cm = 1e-2 / t.wale_spacing();
-  const double courses_per_cm = 1e-2 / t.course_spacing();
-  return nlohmann::json{
-      {"chart", t.initial.chart.name},
-      {"chart_rows", t.initial.chart.text()},
-      {"period_mm", {1e3 * t.tile.period_x, 1e3 * t.tile.period_y}},
-      {"wale_spacing_mm", 1e3 * t.wale_spacing()},
-      {"course_spacing_mm", 1e3 * t.course_spacing()},
-      {"courses_per_cm", courses_per_cm},
-      {"wales_per_cm", wales_per_cm},
-      {"stitch_length_mm", 1e3 * t.stitch_length},
-      {"yarn_radius_mm", 1e3 * t.tile.radius},
-      {"vertices", t.tile.vertex_count()},
-      {"min_distance_mm", 1e3 * t.min_distance},
-      {"rest_stress_N_per_m", {t.relaxation.rest_stress(0, 0), t.relaxation.rest_stress(1, 1)}},
-      {"stress_at_10pct_N_per_m", {t.stress_at_10[0], t.stress_at_10[1]}},
-      {"rest_stress_ratio", t.rest_stress_ratio},
-      {"period_change", {t.tile.period_x / t.initial.tile.period_x - 1.0, t.tile.period_y / t.initial.tile.period_y - 1.0}},
-      {"converged", t.converged},
-      {"message", t.message},
-      {"rounds", t.rounds},
-      {"seconds", t.seconds},
-      {"params", to_json(t.params)}};
+results::TileFile to_file(const GeneratedTile& t) {
+  results::TileFile f;
+  f.chart = t.initial.chart.name;
+  f.chart_rows = t.initial.chart.text();
+  f.period_mm = {1e3 * t.tile.period_x, 1e3 * t.tile.period_y};
+  f.wale_spacing_mm = 1e3 * t.wale_spacing();
+  f.course_spacing_mm = 1e3 * t.course_spacing();
+  f.courses_per_cm = 1e-2 / t.course_spacing();
+  f.wales_per_cm = 1e-2 / t.wale_spacing();
+  f.stitch_length_mm = 1e3 * t.stitch_length;
+  f.yarn_radius_mm = 1e3 * t.tile.radius;
+  f.vertices = static_cast<long long>(t.tile.vertex_count());
+  f.min_distance_mm = 1e3 * t.min_distance;
+  f.rest_stress_N_per_m = {t.relaxation.rest_stress(0, 0), t.relaxation.rest_stress(1, 1)};
+  f.stress_at_10pct_N_per_m = {t.stress_at_10[0], t.stress_at_10[1]};
+  f.rest_stress_ratio = t.rest_stress_ratio;
+  f.period_change = {t.tile.period_x / t.initial.tile.period_x - 1.0, t.tile.period_y / t.initial.tile.period_y - 1.0};
+  f.converged = t.converged;
+  f.message = t.message;
+  f.rounds = t.rounds;
+  f.seconds = t.seconds;
+  f.params = to_json(t.params).get<std::map<std::string, double>>();
+  return f;
 }
 
 }  // namespace yarnfit::yarn

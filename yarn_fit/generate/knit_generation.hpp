@@ -20,6 +20,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "fabrics_db/tile/knit_tile.hpp"
+#include "results/tile_file.hpp"
 #include "yarn_fit/homogenise/rest_period.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
@@ -63,8 +64,7 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
 // system; twists and reference twists from `source`, reference directors recomputed.
 db::PeriodicTile tile_at_rest(const db::PeriodicTile& source, const YarnSystem& system, const Eigen::VectorXd& g);
 
-// {chart, period_mm, courses_per_cm, wales_per_cm, stitch_length_mm, yarn_radius_mm,
-//  rest_stress_ratio, converged, seconds, …} (SPEC §5 `tile make --json`).
-nlohmann::json to_json(const GeneratedTile& generated);
+// The tile's record (SPEC §5 `tile make --json`; results/tile_file.hpp writes it).
+results::TileFile to_file(const GeneratedTile& generated);
 
 }  // namespace yarnfit::yarn

@@ -87,7 +87,7 @@ TEST(YarnFitProblem, JsonNamesTheFabricAndTheTargetsSource) {
   p->targets_source = "somewhere/uniform_targets.csv";
   YarnFitResult r;
   r.message = "not run";
-  const nlohmann::json j = to_json(*p, r, YarnFitSettings{});
+  const nlohmann::json j = results::to_json(to_file(*p, r, YarnFitSettings{}));
   EXPECT_EQ(j["fabric"], "stockinette_demo");
   EXPECT_EQ(j["targets"], "somewhere/uniform_targets.csv");
   EXPECT_TRUE(j["errors"]["stress_full_pct"].is_null());

@@ -15,11 +15,12 @@ using nlohmann::json;
 
 using yarnfit::testing::contains;
 
-const json k_yarn = {{"ok", true}, {"settings", {{"swarm", false}}}, {"timing_s", {{"total", 2.0}}}};
+const results::YarnFitFile k_yarn = results::yarn_fit_file_from_json(
+    {{"ok", true}, {"params", json::object()}, {"settings", {{"swarm", false}}}, {"timing_s", {{"total", 2.0}}}});
 
 TEST(FitSummary, FabricThenShellThenYarnThenTheTimePerStage) {
   const json shell = {{"converged", true}, {"errors", {{"stretch_force_pct", 1.0}}}, {"params", {{"kxx", 1.0}}}};
-  const std::string s = fit_summary("demo", "fabrics/demo", shell, k_yarn, {1.0, 2.0, 3.5});
+  const std::string s = fit_summary("demo", "fabrics/demo", results::shell_fit_file_from_json(shell), k_yarn, {1.0, 2.0, 3.5});
   EXPECT_EQ(s.rfind("fabric demo (fabrics/demo)\n\nshell fit: converged\n", 0), 0u) << s;
   EXPECT_LT(s.find("shell fit:"), s.find("yarn fit: ok"));
   EXPECT_TRUE(contains(s, "\ntime per stage: shell 1 s, yarn 2 s, total 3.5 s\n")) << s;

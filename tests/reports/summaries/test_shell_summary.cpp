@@ -1,4 +1,4 @@
-// Text reports of a shell fit from its shell_fit.json alone (reports/summaries/shell_summary.hpp).
+// Text reports of a shell fit from its shell_fit.json alone, read as results::ShellFitFile (reports/summaries/shell_summary.hpp).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -13,6 +13,10 @@ namespace {
 using nlohmann::json;
 
 using yarnfit::testing::contains;
+
+// The summaries read the type; these files are of schema version 1 (no per-direction errors
+// stored), so reading them computes the per-direction figures from the curves.
+results::ShellFitFile file(const json& j) { return results::shell_fit_file_from_json(j); }
 
 json converged_fit() {
   return json{
@@ -41,7 +45,7 @@ json converged_fit() {
 }
 
 TEST(ShellSummary, ErrorsPerDirectionAndForAllWithTheParameters) {
-  const std::string s = shell_summary(converged_fit(), 5.0);
+  const std::string s = shell_summary(file(converged_fit()), 5.0);
   EXPECT_EQ(s.rfind("shell fit: converged\n", 0), 0u) << s;
   // The per-direction figures are the shell metric of each curve: 0.3 / 3 and 0.
   EXPECT_TRUE(contains(s, "    weft              10 %          0 %\n")) << s;
@@ -59,18 +63,18 @@ TEST(ShellSummary, AFailedFitShowsNoFiguresAndSaysWhy) {
   r["inplane"]["errors_reason"] = r["errors_reason"];
   r["directions"][0]["simulated_force_N"] = json::array();
   r["directions"][0]["simulated_compression"] = json::array();
-  const std::string s = shell_summary(r, 1.0);
+  const std::string s = shell_summary(file(r), 1.0);
   EXPECT_TRUE(contains(s, "shell fit: NOT converged")) << s;
   EXPECT_TRUE(contains(s, "    weft                 -            -\n")) << s;
   EXPECT_TRUE(contains(s, "bending (aspect ratio) not fitted")) << s;
   EXPECT_TRUE(contains(s, "no errors where the fit failed: final evaluation failed")) << s;
-  const std::string report = shell_fit_report(r);
+  const std::string report = shell_fit_report(file(r));
   EXPECT_TRUE(contains(report, "  force error -, compression error -\n")) << report;
   EXPECT_TRUE(contains(report, "  no errors: final evaluation failed: a scene did not reach equilibrium\n")) << report;
 }
 
 TEST(ShellSummary, TheShellFitCommandsReport) {
-  const std::string s = shell_fit_report(converged_fit());
+  const std::string s = shell_fit_report(file(converged_fit()));
   EXPECT_EQ(s.rfind("shell fit of demo: converged after 12 iterations, 1.25 s\n", 0), 0u) << s;
   EXPECT_TRUE(contains(s, "  force error 10 %, compression error 0 %\n")) << s;
   EXPECT_TRUE(contains(s, "  best of 2 data-based starts: mostly kxy, 1 restart(s) after stalls\n")) << s;
@@ -85,13 +89,13 @@ TEST(ShellSummary, TheShellFitCommandsReport) {
   json r = converged_fit();
   r["inplane"]["compression_measured"] = false;
   r["errors"]["compression_pct"] = nullptr;
-  EXPECT_TRUE(contains(shell_fit_report(r), "compression error not measured"));
+  EXPECT_TRUE(contains(shell_fit_report(file(r)), "compression error not measured"));
 }
 
 TEST(ShellSummary, CurvesCsvLeavesMissingValuesEmpty) {
   json r = converged_fit();
   r["directions"][0]["simulated_force_N"] = json::array();
-  EXPECT_EQ(shell_curves_csv(r),
+  EXPECT_EQ(shell_curves_csv(file(r)),
             "direction,stretch,measured_force_N,simulated_force_N,measured_compression,simulated_compression\n"
             "weft,0.25,1,,0.1,0.1\n"
             "weft,0.5,2,,0.2,0.2\n");

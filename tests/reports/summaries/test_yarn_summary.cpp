@@ -70,16 +70,19 @@ json yarn_fit() {
       {"local", {{"report", "implicit filtering converged"}}}};
 }
 
+// The summary of a yarn_fit.json as the file holds it (read through its type).
+std::string summary_of(const json& file) { return yarn_summary(results::yarn_fit_file_from_json(file)); }
+
 TEST(YarnSummary, ErrorsPerDirectionInTheFitsOrder) {
-  const std::string s = yarn_summary(yarn_fit());
+  const std::string s = summary_of(yarn_fit());
   EXPECT_EQ(s.rfind("yarn fit: ok\n", 0), 0u) << s;
   EXPECT_TRUE(contains(s, "  settings: swarm 16 particles x 6 iterations, 5 samples per direction; local step implicit-filtering, "
                      "at most 40 evaluations, 12 samples per direction; seed 1; c* at every sample\n"))
       << s;
   json generated = yarn_fit();
   generated["settings"]["rest_period"] = true;
-  EXPECT_TRUE(contains(yarn_summary(generated), "seed 1; period relaxed per candidate; c* at every sample\n"))
-      << yarn_summary(generated);
+  EXPECT_TRUE(contains(summary_of(generated), "seed 1; period relaxed per candidate; c* at every sample\n"))
+      << summary_of(generated);
   // weft before warp (the curves' order), warp without a bending figure.
   const auto weft = s.find("    weft                 10 %         20 %          5 %       7 %\n");
   const auto warp = s.find("    warp                  1 %          2 %          3 %         -\n");
@@ -89,7 +92,7 @@ TEST(YarnSummary, ErrorsPerDirectionInTheFitsOrder) {
 }
 
 TEST(YarnSummary, ParametersWithBoundsInTheSpacesOrderAndTheFixedOnes) {
-  const std::string s = yarn_summary(yarn_fit());
+  const std::string s = summary_of(yarn_fit());
   const auto ks1 = s.find("    ks1    =       1.2592   in [0.12, 120] log\n");
   const auto r1 = s.find("    R1     =   0.00039604   in [0.000132, 0.000396]   ON A BOUND\n");
   const auto kc1 = s.find("    kc1    =        11112   in [4545, 4.545e+07] log\n");
@@ -104,11 +107,11 @@ TEST(YarnSummary, ParametersWithBoundsInTheSpacesOrderAndTheFixedOnes) {
   json linear = yarn_fit();
   linear["bounds"].erase("ks1");
   linear["bounds"].erase("eps_s");
-  EXPECT_TRUE(contains(yarn_summary(linear), "    ks1    =       1.2592   fixed\n"));
+  EXPECT_TRUE(contains(summary_of(linear), "    ks1    =       1.2592   fixed\n"));
 }
 
 TEST(YarnSummary, IdentifiabilityRangesFreeFailedAndDownhill) {
-  const std::string s = yarn_summary(yarn_fit());
+  const std::string s = summary_of(yarn_fit());
   EXPECT_TRUE(contains(s, "  identifiability (g = 1.31 at the fit;")) << s;
   EXPECT_TRUE(contains(s, "    ks1        inf / 3                         unbounded               -\n")) << s;
   EXPECT_TRUE(contains(s, "    eps_s      2 / 3                              ±10 %           ±5 %\n")) << s;
@@ -129,7 +132,7 @@ TEST(YarnSummary, AFailedFitHasNoErrorRowsAndSaysWhy) {
   r["errors_by_direction"] = json::object();
   r["errors_reason"] = r["message"];
   r.erase("identifiability");
-  const std::string s = yarn_summary(r);
+  const std::string s = summary_of(r);
   EXPECT_EQ(s.rfind("yarn fit: FAILED: the best parameters failed on re-evaluation: rest shape\n", 0), 0u) << s;
   EXPECT_FALSE(contains(s, "    weft")) << s;
   EXPECT_TRUE(contains(s, "  no errors: the best parameters failed")) << s;
@@ -138,7 +141,7 @@ TEST(YarnSummary, AFailedFitHasNoErrorRowsAndSaysWhy) {
 }
 
 TEST(YarnSummary, CurvesCsvWritesEverySampleAndNanWhereAValueIsMissing) {
-  EXPECT_EQ(yarn_curves_csv(yarn_fit()),
+  EXPECT_EQ(yarn_curves_csv(results::yarn_fit_file_from_json(yarn_fit())),
             "direction,sample,stretch,target_S_N_per_m,simulated_S_N_per_m,target_compression,simulated_compression,"
             "weight\n"
             "weft,0,0,0,0,0,0,1\n"

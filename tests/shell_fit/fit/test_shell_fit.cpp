@@ -58,7 +58,7 @@ TEST(ShellFit, InplaneThenTargetsWithoutBendingTestsAndTheJsonSaysSo) {
   EXPECT_EQ(r.targets[0].direction, db::Direction::weft);
   EXPECT_TRUE(r.targets[0].bending.empty());
 
-  const nlohmann::json j = to_json(r);
+  const nlohmann::json j = results::to_json(to_file(r));
   EXPECT_EQ(j["fabric"], "stockinette_demo");
   EXPECT_TRUE(j["params"]["ktheta_weft"].is_null());
   EXPECT_TRUE(j["errors"]["bending_pct"].is_null());
@@ -88,7 +88,7 @@ TEST(ShellFit, AFailedFinalEvaluationHasNullErrorsAndTheReasonNotStaleCurves) {
     EXPECT_TRUE(d.simulated_force.empty());
     EXPECT_TRUE(d.simulated_compression.empty());
   }
-  const nlohmann::json j = to_json(r);
+  const nlohmann::json j = results::to_json(to_file(r));
   EXPECT_TRUE(j["errors"]["stretch_force_pct"].is_null()) << j["errors"];
   EXPECT_TRUE(j["errors"]["compression_pct"].is_null()) << j["errors"];
   ASSERT_TRUE(j["errors_reason"].is_string());
@@ -107,7 +107,7 @@ TEST(ShellFit, BendingFailureAndFallbackStartsReachTheJson) {
   b.errors_reason = b.message;
   b.fallback_starts = {"weft test (ktheta_weft): start search failed"};
   r.bending = b;
-  const nlohmann::json j = to_json(r);
+  const nlohmann::json j = results::to_json(to_file(r));
   EXPECT_TRUE(j["errors"]["bending_pct"].is_null());
   EXPECT_EQ(j["errors_reason"], "bending: " + b.message);
   EXPECT_EQ(j["bending"]["errors_reason"], b.message);
@@ -116,7 +116,7 @@ TEST(ShellFit, BendingFailureAndFallbackStartsReachTheJson) {
   // Bending tests but no converged in-plane fit: nothing fitted, and the reason says why.
   r.bending.reset();
   r.inplane.converged = false;
-  EXPECT_NE(to_json(r)["errors_reason"].get<std::string>().find("the in-plane fit did not converge"), std::string::npos);
+  EXPECT_NE(results::to_json(to_file(r))["errors_reason"].get<std::string>().find("the in-plane fit did not converge"), std::string::npos);
 }
 
 TEST(ReadShellParams, ValuesOfAShellFitNullWhereNotFittedAndProblemsNamed) {

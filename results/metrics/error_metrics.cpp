@@ -1,23 +1,13 @@
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
 #include <cmath>
 #include <limits>
-#include <vector>
 
-namespace yarnfit::reports {
+namespace yarnfit::results {
 
 namespace {
 
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
-
-// A JSON array of numbers as doubles (cells that are not numbers as NaN); empty when `v` is
-// not an array.
-std::vector<double> numbers_of(const nlohmann::json& v) {
-  std::vector<double> out;
-  if (!v.is_array()) return out;
-  for (const auto& x : v) out.push_back(number_or_nan(x));
-  return out;
-}
 
 }  // namespace
 
@@ -41,11 +31,6 @@ double shell_error_pct(std::span<const double> measured, std::span<const double>
   ShellErrorSum sum;
   sum.add(measured, simulated);
   return sum.pct();
-}
-
-double shell_error_pct_json(const nlohmann::json& measured, const nlohmann::json& simulated) {
-  if (!measured.is_array() || !simulated.is_array()) return k_nan;
-  return shell_error_pct(numbers_of(measured), numbers_of(simulated));
 }
 
 double yarn_error_pct(std::span<const double> simulated, std::span<const double> target, double norm) {
@@ -74,4 +59,4 @@ nlohmann::json pct_json(double pct) { return std::isfinite(pct) ? nlohmann::json
 
 double number_or_nan(const nlohmann::json& value) { return value.is_number() ? value.get<double>() : k_nan; }
 
-}  // namespace yarnfit::reports
+}  // namespace yarnfit::results

@@ -1,4 +1,4 @@
-// The SPEC error metrics (reports/metrics/error_metrics.hpp): known values, several curves
+// The SPEC error metrics (results/metrics/error_metrics.hpp): known values, several curves
 // summed as one, and no figure (NaN, null in JSON) wherever there is nothing to compare.
 #include <gtest/gtest.h>
 
@@ -6,9 +6,9 @@
 #include <limits>
 #include <vector>
 
-#include "reports/metrics/error_metrics.hpp"
+#include "results/metrics/error_metrics.hpp"
 
-namespace yarnfit::reports {
+namespace yarnfit::results {
 namespace {
 
 using nlohmann::json;
@@ -45,13 +45,6 @@ TEST(ShellErrorMetric, NoFigureWithoutSomethingToCompare) {
   partly.add(std::vector<double>{1}, std::vector<double>{1});
   partly.add(std::vector<double>{1, 2}, std::vector<double>{});
   EXPECT_TRUE(std::isnan(partly.pct()));
-}
-
-TEST(ShellErrorMetric, FromJsonCurves) {
-  EXPECT_NEAR(shell_error_pct_json(json{1.0, 2.0, 3.0}, json{1.1, 1.8, 3.3}), 10.0, 1e-12);
-  EXPECT_TRUE(std::isnan(shell_error_pct_json(json{1.0, 2.0}, json{1.0, nullptr})));
-  EXPECT_TRUE(std::isnan(shell_error_pct_json(json{1.0}, json())));
-  EXPECT_TRUE(std::isnan(shell_error_pct_json(json::array(), json::array())));
 }
 
 TEST(YarnErrorMetric, MeanAbsoluteErrorOverTheNorm) {
@@ -94,4 +87,4 @@ TEST(ErrorMetricJson, NullWhereThereIsNoFigure) {
 }
 
 }  // namespace
-}  // namespace yarnfit::reports
+}  // namespace yarnfit::results

@@ -1,6 +1,8 @@
 #pragma once
 // The error figures yarnfit reports (SPEC §3 "Error metrics reported"), written once so that
-// the fits, `yarnfit fit` and the summaries print the same numbers the thesis compares:
+// the fits, `yarnfit fit` and the summaries print the same numbers the thesis compares. They
+// sit in results/ because the result files carry them (per direction too, computed once by the
+// fit, or on reading an older file that did not store them):
 //
 //   shell (Fig. 6.13)  100 · mean_i |sim_i − meas_i| / mean_i |meas_i|      [%]
 //                      over every target of the curves taken together (force, compression
@@ -22,7 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace yarnfit::reports {
+namespace yarnfit::results {
 
 // The shell metric summed over several curves: add each curve's measured and simulated values
 // (same points, same order), then read pct().
@@ -42,9 +44,6 @@ class ShellErrorSum {
 
 // The shell metric of one curve.
 [[nodiscard]] double shell_error_pct(std::span<const double> measured, std::span<const double> simulated);
-// The same from two JSON arrays (a curve of shell_fit.json); a missing array, another length or
-// a cell that is not a number gives NaN.
-[[nodiscard]] double shell_error_pct_json(const nlohmann::json& measured, const nlohmann::json& simulated);
 
 // The yarn metric of one direction: Σ_i |(simulated_i − target_i) / norm| summed in order, then
 // 100 · sum / n (each difference is normalised first, as the objective's residuals are).
@@ -63,4 +62,4 @@ class ShellErrorSum {
 // A figure back from JSON: the number, or NaN for null or anything else.
 [[nodiscard]] double number_or_nan(const nlohmann::json& value);
 
-}  // namespace yarnfit::reports
+}  // namespace yarnfit::results

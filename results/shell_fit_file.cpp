@@ -1,0 +1,277 @@
+#include "results/shell_fit_file.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+#include "results/json_fields.hpp"
+#include "results/metrics/error_metrics.hpp"
+
+namespace yarnfit::results {
+
+using nlohmann::json;
+using namespace detail;
+
+namespace {
+
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
+json curves_json(const ShellDirectionCurves& d) {
+  return {{"direction", d.direction},
+          {"fitted_max_stretch", d.fitted_max_stretch},
+          {"measured_max_stretch", d.measured_max_stretch},
+          {"stretch", numbers_json(d.stretch)},
+          {"measured_force_N", numbers_json(d.measured_force_N)},
+          {"simulated_force_N", numbers_json(d.simulated_force_N)},
+          {"measured_compression", numbers_json(d.measured_compression)},
+          {"simulated_compression", numbers_json(d.simulated_compression)}};
+}
+
+ShellDirectionCurves read_curves(const json& d, const Where& at) {
+  expect_object(d, at);
+  ShellDirectionCurves c;
+  c.direction = string(d, "direction", at, "?");
+  c.fitted_max_stretch = number(d, "fitted_max_stretch", at, k_nan);
+  c.measured_max_stretch = number(d, "measured_max_stretch", at, k_nan);
+  c.stretch = numbers(d, "stretch", at);
+  c.measured_force_N = numbers(d, "measured_force_N", at);
+  c.simulated_force_N = numbers(d, "simulated_force_N", at);
+  c.measured_compression = numbers(d, "measured_compression", at);
+  c.simulated_compression = numbers(d, "simulated_compression", at);
+  return c;
+}
+
+json bending_json(const BendingDetails& b) {
+  json curves = json::array();
+  for (const auto& c : b.curves)
+    curves.push_back({{"direction", c.direction},
+                      {"clamp_distance_m", numbers_json(c.clamp_distance_m)},
+                      {"measured_aspect_ratio", numbers_json(c.measured_aspect_ratio)},
+                      {"simulated_aspect_ratio", numbers_json(c.simulated_aspect_ratio)}});
+  return {{"converged", b.converged},
+          {"message", b.message},
+          {"iterations", b.iterations},
+          {"simulations", b.simulations},
+          {"timing_s", b.timing_s},
+          {"at_bounds", b.at_bounds},
+          {"curves", curves},
+          {"not_identified", b.not_identified},
+          {"fallback_starts", b.fallback_starts},
+          {"errors_reason", string_or_null(b.errors_reason)}};
+}
+
+BendingDetails read_bending(const json& b, const Where& at) {
+  expect_object(b, at);
+  BendingDetails out;
+  out.converged = boolean(b, "converged", at, false);
+  out.message = string(b, "message", at);
+  out.iterations = integer(b, "iterations", at, 0);
+  out.simulations = integer(b, "simulations", at, 0);
+  out.timing_s = number(b, "timing_s", at, k_nan);
+  out.at_bounds = strings(b, "at_bounds", at);
+  if (const json* curves = member(b, "curves")) {
+    if (!curves->is_array()) (at / "curves").bad("an array");
+    for (std::size_t i = 0; i < curves->size(); ++i) {
+      const json& c = (*curves)[i];
+      const Where w = (at / "curves")[i];
+      expect_object(c, w);
+      out.curves.push_back({string(c, "direction", w, "?"), numbers(c, "clamp_distance_m", w),
+                            numbers(c, "measured_aspect_ratio", w), numbers(c, "simulated_aspect_ratio", w)});
+    }
+  }
+  out.not_identified = strings(b, "not_identified", at);
+  out.fallback_starts = strings(b, "fallback_starts", at);
+  out.errors_reason = string(b, "errors_reason", at);
+  return out;
+}
+
+json direction_errors_json(const std::map<std::string, ShellDirectionErrors>& errors) {
+  json j = json::object();
+  for (const auto& [dir, e] : errors)
+    j[dir] = {{"stretch_force_pct", pct_json(e.stretch_force_pct)},
+              {"compression_pct", pct_json(e.compression_pct)},
+              {"bending_pct", pct_json(e.bending_pct)}};
+  return j;
+}
+
+std::map<std::string, ShellDirectionErrors> read_direction_errors(const json& j, const Where& at) {
+  std::map<std::string, ShellDirectionErrors> out;
+  const json* v = member(j, "errors_by_direction");
+  if (!v) at.bad("errors_by_direction (schema version 2 and later)");
+  expect_object(*v, at / "errors_by_direction");
+  for (const auto& [dir, e] : v->items()) {
+    const Where w = at / "errors_by_direction" / dir;
+    expect_object(e, w);
+    out[dir] = {number(e, "stretch_force_pct", w, k_nan), number(e, "compression_pct", w, k_nan),
+                number(e, "bending_pct", w, k_nan)};
+  }
+  return out;
+}
+
+}  // namespace
+
+ShellDirectionErrors ShellFitFile::direction_errors(const std::string& direction) const {
+  const auto it = errors_by_direction.find(direction);
+  return it == errors_by_direction.end() ? ShellDirectionErrors{k_nan, k_nan, k_nan} : it->second;
+}
+
+std::map<std::string, ShellDirectionErrors> shell_direction_errors(const std::vector<ShellDirectionCurves>& directions,
+                                                                  const std::optional<BendingDetails>& bending) {
+  std::map<std::string, ShellDirectionErrors> out;
+  const auto entry = [&out](const std::string& dir) -> ShellDirectionErrors& {
+    return out.try_emplace(dir, ShellDirectionErrors{k_nan, k_nan, k_nan}).first->second;
+  };
+  for (const auto& d : directions) {
+    ShellDirectionErrors& e = entry(d.direction);
+    e.stretch_force_pct = shell_error_pct(d.measured_force_N, d.simulated_force_N);
+    e.compression_pct = shell_error_pct(d.measured_compression, d.simulated_compression);
+  }
+  if (bending)
+    for (const auto& c : bending->curves)
+      entry(c.direction).bending_pct = shell_error_pct(c.measured_aspect_ratio, c.simulated_aspect_ratio);
+  return out;
+}
+
+std::map<std::string, double> named_errors(const ShellErrors& e) {
+  return {{"stretch_force_pct", e.stretch_force_pct}, {"compression_pct", e.compression_pct}, {"bending_pct", e.bending_pct}};
+}
+
+json params_json(const std::map<std::string, std::optional<double>>& params) {
+  json j = json::object();
+  for (const auto& [name, v] : params) j[name] = v ? json(*v) : json(nullptr);
+  return j;
+}
+
+json to_json(const ShellFitFile& f) {
+  json errors = json::object();
+  for (const auto& [name, v] : named_errors(f.errors)) errors[name] = pct_json(v);
+  json starts = json::array();
+  for (const auto& s : f.starts)
+    starts.push_back({{"name", s.name},
+                      {"params", s.params},
+                      {"usable", s.usable},
+                      {"cost", pct_json(s.cost)},
+                      {"iterations", s.iterations}});
+  json thesis = nullptr;
+  if (f.thesis_model_fit)
+    thesis = {{"params", f.thesis_model_fit->params},
+              {"errors",
+               {{"stretch_force_pct", pct_json(f.thesis_model_fit->stretch_force_pct)},
+                {"compression_pct", pct_json(f.thesis_model_fit->compression_pct)}}}};
+  json directions = json::array();
+  for (const auto& d : f.directions) directions.push_back(curves_json(d));
+  json j = {{"schema_version", k_shell_fit_schema_version},
+            {"fabric", f.fabric},
+            {"family", f.family},
+            {"model", f.model},
+            {"params", params_json(f.params)},
+            {"start", f.start},
+            {"thesis_model_fit", thesis},
+            {"hit_iteration_cap", f.hit_iteration_cap},
+            {"starts", starts},
+            {"chosen_start", f.chosen_start},
+            {"errors", errors},
+            {"errors_by_direction", direction_errors_json(f.errors_by_direction)},
+            {"errors_reason", string_or_null(f.errors_reason)},
+            {"identified", f.identified},
+            {"not_identified", f.not_identified},
+            {"at_bounds", f.at_bounds},
+            {"bounds", bounds_json(f.bounds)},
+            {"weakly_identified", f.weakly_identified},
+            {"sensitivity_pct_per_pct_noise", number_map_json(f.sensitivity_pct_per_pct_noise)},
+            {"converged", f.converged},
+            {"message", f.message},
+            {"iterations", f.iterations},
+            {"restarts", f.restarts},
+            {"simulations", f.simulations},
+            {"directions", directions},
+            {"timing_s", f.timing_s},
+            {"effects", f.effects}};
+  if (f.inplane)
+    j["inplane"] = {{"timing_s", f.inplane->timing_s},
+                    {"not_identified", f.inplane->not_identified},
+                    {"at_bounds", f.inplane->at_bounds},
+                    {"compression_measured", f.inplane->compression_measured},
+                    {"errors_reason", string_or_null(f.inplane->errors_reason)}};
+  if (f.bending) j["bending"] = bending_json(*f.bending);
+  return j;
+}
+
+ShellFitFile shell_fit_file_from_json(const json& j, const std::string& source) {
+  const Where at(source);
+  expect_object(j, at);
+  ShellFitFile f;
+  f.schema_version = schema_version(j, at, k_shell_fit_schema_version);
+  f.fabric = string(j, "fabric", at);
+  f.family = string(j, "family", at);
+  f.model = string(j, "model", at, "thesis");  // files from before the choice are eq. 6.1
+  const json* params = member(j, "params");
+  if (!params) at.bad("params (the fitted parameters)");
+  expect_object(*params, at / "params");
+  for (const auto& [name, v] : params->items()) f.params[name] = optional_number(*params, name.c_str(), at / "params");
+  f.start = number_map(j, "start", at);
+  if (const json* t = member(j, "thesis_model_fit"); t && !t->is_null()) {
+    const Where w = at / "thesis_model_fit";
+    expect_object(*t, w);
+    ThesisModelFit thesis;
+    thesis.params = number_map(*t, "params", w);
+    const json* e = member(*t, "errors");
+    const json none = json::object();
+    thesis.stretch_force_pct = number(e ? *e : none, "stretch_force_pct", w / "errors", k_nan);
+    thesis.compression_pct = number(e ? *e : none, "compression_pct", w / "errors", k_nan);
+    f.thesis_model_fit = thesis;
+  }
+  f.hit_iteration_cap = boolean(j, "hit_iteration_cap", at, false);
+  if (const json* starts = member(j, "starts")) {
+    if (!starts->is_array()) (at / "starts").bad("an array");
+    for (std::size_t i = 0; i < starts->size(); ++i) {
+      const json& s = (*starts)[i];
+      const Where w = (at / "starts")[i];
+      expect_object(s, w);
+      f.starts.push_back({string(s, "name", w), number_map(s, "params", w), boolean(s, "usable", w, false),
+                          number(s, "cost", w, k_nan), integer(s, "iterations", w, 0)});
+    }
+  }
+  f.chosen_start = integer(j, "chosen_start", at, -1);
+  const json none = json::object();
+  const json* errors = member(j, "errors");
+  if (errors) expect_object(*errors, at / "errors");
+  const json& e = errors ? *errors : none;
+  f.errors = {number(e, "stretch_force_pct", at / "errors", k_nan), number(e, "compression_pct", at / "errors", k_nan),
+              number(e, "bending_pct", at / "errors", k_nan)};
+  f.errors_reason = string(j, "errors_reason", at);
+  if (const json* in = member(j, "inplane")) {
+    const Where w = at / "inplane";
+    expect_object(*in, w);
+    f.inplane = InplaneDetails{number(*in, "timing_s", w, k_nan), strings(*in, "not_identified", w),
+                               strings(*in, "at_bounds", w), boolean(*in, "compression_measured", w, true),
+                               string(*in, "errors_reason", w)};
+  }
+  f.identified = strings(j, "identified", at);
+  f.not_identified = strings(j, "not_identified", at);
+  f.at_bounds = strings(j, "at_bounds", at);
+  f.bounds = read_bounds(j, at);
+  f.weakly_identified = strings(j, "weakly_identified", at);
+  f.sensitivity_pct_per_pct_noise = number_map(j, "sensitivity_pct_per_pct_noise", at);
+  f.converged = boolean(j, "converged", at, false);
+  f.message = string(j, "message", at);
+  f.iterations = integer(j, "iterations", at, 0);
+  f.restarts = integer(j, "restarts", at, 0);
+  f.simulations = integer(j, "simulations", at, 0);
+  if (const json* dirs = member(j, "directions")) {
+    if (!dirs->is_array()) (at / "directions").bad("an array");
+    for (std::size_t i = 0; i < dirs->size(); ++i) f.directions.push_back(read_curves((*dirs)[i], (at / "directions")[i]));
+  }
+  f.timing_s = number(j, "timing_s", at, k_nan);
+  f.effects = string_lists(j, "effects", at);
+  if (const json* b = member(j, "bending")) f.bending = read_bending(*b, at / "bending");
+  // Version 1 did not store the per-direction errors: its readers computed them from the curves.
+  f.errors_by_direction =
+      f.schema_version >= 2 ? read_direction_errors(j, at) : shell_direction_errors(f.directions, f.bending);
+  return f;
+}
+
+ShellFitFile read_shell_fit_file(const std::filesystem::path& path) {
+  return shell_fit_file_from_json(read_json_file(path), path.string());
+}
+
+}  // namespace yarnfit::results

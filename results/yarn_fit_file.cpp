@@ -1,0 +1,444 @@
+#include "results/yarn_fit_file.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+#include "results/json_fields.hpp"
+#include "results/metrics/error_metrics.hpp"
+
+namespace yarnfit::results {
+
+using nlohmann::json;
+using namespace detail;
+
+namespace {
+
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
+// A member object, or an empty one when absent (its fields then take their defaults).
+const json& object_or_empty(const json& j, const char* key, const Where& at) {
+  static const json empty = json::object();
+  const json* v = member(j, key);
+  if (!v) return empty;
+  expect_object(*v, at / key);
+  return *v;
+}
+
+// ------------------------------------------------------------------------------ errors, curves
+
+json direction_json(const YarnDirectionErrors& d) {
+  json j = {{"stress_comfort_pct", pct_json(d.stress_comfort_pct)},
+            {"stress_full_pct", pct_json(d.stress_full_pct)},
+            {"compression_pct", pct_json(d.compression_pct)},
+            {"comfort_stretch", pct_json(d.comfort_stretch)},
+            {"objective", pct_json(d.objective)},
+            {"samples", d.samples},
+            {"flat_compressions", d.flat_compressions},
+            {"held_compressions", d.held_compressions}};
+  if (d.bending_pct) j["bending_pct"] = pct_json(*d.bending_pct);
+  if (d.curl_stress_kappa_N) j["curl_stress_kappa_N"] = pct_json(*d.curl_stress_kappa_N);
+  return j;
+}
+
+YarnDirectionErrors read_direction(const json& e, const Where& w) {
+  expect_object(e, w);
+  YarnDirectionErrors d;
+  d.stress_comfort_pct = number(e, "stress_comfort_pct", w, k_nan);
+  d.stress_full_pct = number(e, "stress_full_pct", w, k_nan);
+  d.compression_pct = number(e, "compression_pct", w, k_nan);
+  d.comfort_stretch = number(e, "comfort_stretch", w, k_nan);
+  d.objective = number(e, "objective", w, k_nan);
+  d.samples = long_integer(e, "samples", w, 0);
+  d.flat_compressions = integer(e, "flat_compressions", w, 0);
+  d.held_compressions = integer(e, "held_compressions", w, 0);
+  if (member(e, "bending_pct")) d.bending_pct = number(e, "bending_pct", w, k_nan);
+  if (member(e, "curl_stress_kappa_N")) d.curl_stress_kappa_N = number(e, "curl_stress_kappa_N", w, k_nan);
+  return d;
+}
+
+json curve_json(const YarnCurve& c) {
+  return {{"direction", c.direction},
+          {"stretch", numbers_json(c.stretch)},
+          {"target_S_N_per_m", numbers_json(c.target_S_N_per_m)},
+          {"simulated_S_N_per_m", numbers_json(c.simulated_S_N_per_m)},
+          {"target_compression", numbers_json(c.target_compression)},
+          {"simulated_compression", numbers_json(c.simulated_compression)},
+          {"weight", numbers_json(c.weight)}};
+}
+
+YarnCurve read_curve(const json& c, const Where& w) {
+  return {string(c, "direction", w, "?"),         numbers(c, "stretch", w),
+          numbers(c, "target_S_N_per_m", w),      numbers(c, "simulated_S_N_per_m", w),
+          numbers(c, "target_compression", w),    numbers(c, "simulated_compression", w),
+          numbers(c, "weight", w)};
+}
+
+// ------------------------------------------------------------------------------ identifiability
+
+json identifiability_json(const Identifiability& p) {
+  json entries = json::object();
+  for (const auto& [name, e] : p.parameters)
+    entries[name] = {{"value", e.value},
+                     {"objective_lower", pct_json(e.objective_lower)},
+                     {"objective_upper", pct_json(e.objective_upper)},
+                     {"range_factor", pct_json(e.range_factor)},
+                     {"range_alone_factor", pct_json(e.range_alone_factor)},
+                     {"free", e.free},
+                     {"free_alone", e.free_alone}};
+  json j = {{"computed", p.computed}, {"from", p.from},           {"step", p.step},
+            {"objective", pct_json(p.objective)}, {"parameters", entries}, {"evaluations", p.evaluations},
+            {"seconds", p.seconds}};
+  if (!p.message.empty()) j["message"] = p.message;
+  return j;
+}
+
+Identifiability read_identifiability(const json& p, const Where& at) {
+  expect_object(p, at);
+  Identifiability out;
+  out.computed = boolean(p, "computed", at, false);
+  out.from = string(p, "from", at);
+  out.message = string(p, "message", at);
+  out.step = number(p, "step", at, k_nan);
+  out.objective = number(p, "objective", at, k_nan);
+  const json& entries = object_or_empty(p, "parameters", at);
+  for (const auto& [name, e] : entries.items()) {
+    const Where w = at / "parameters" / name;
+    expect_object(e, w);
+    out.parameters[name] = {number(e, "value", w, k_nan),          number(e, "objective_lower", w, k_nan),
+                            number(e, "objective_upper", w, k_nan),  number(e, "range_factor", w, k_nan),
+                            number(e, "range_alone_factor", w, k_nan), boolean(e, "free", w, false),
+                            boolean(e, "free_alone", w, false)};
+  }
+  out.evaluations = integer(p, "evaluations", at, 0);
+  out.seconds = number(p, "seconds", at, k_nan);
+  return out;
+}
+
+// ------------------------------------------------------------------------------ settings
+
+json stage_settings_json(const SwarmStageSettings& s) {
+  return {{"particles", s.particles}, {"iterations", s.iterations}, {"samples", s.samples}};
+}
+
+SwarmStageSettings read_stage_settings(const json& s, const char* key, const Where& at) {
+  const json& v = object_or_empty(s, key, at);
+  const Where w = at / key;
+  return {integer(v, "particles", w, 0), integer(v, "iterations", w, 0), integer(v, "samples", w, 0)};
+}
+
+json settings_json(const YarnFitSettingsRecord& s) {
+  json j = {
+      {"global_method", s.global_method},
+      {"staged",
+       {{"contact", stage_settings_json(s.staged_contact)},
+        {"all", stage_settings_json(s.staged_all)},
+        {"r1_window", s.staged_r1_window},
+        {"rescored", s.staged_rescored},
+        {"starts", s.staged_starts}}},
+      {"alternation",
+       {{"max_rounds", s.alternation_max_rounds},
+        {"iterations_per_round", s.alternation_iterations_per_round},
+        {"initial_radius", s.alternation_initial_radius},
+        {"move_tolerance", s.alternation_move_tolerance}}},
+      {"particles", s.particles},
+      {"iterations", s.iterations},
+      {"swarm_samples", s.swarm_samples},
+      {"local_samples", s.local_samples},
+      {"local_method", s.local_method},
+      {"local_evaluations", s.local_evaluations},
+      {"swarm_compression_nodes", s.swarm_compression_nodes},
+      {"local_compression_nodes", s.local_compression_nodes},
+      {"seed", s.seed},
+      {"swarm", s.swarm},
+      {"linear_stretch", s.linear_stretch},
+      {"rest_shape", s.rest_shape},
+      {"rest_period", s.rest_period},
+      {"band_correction", s.band_correction},
+      {"bending_points", s.bending_points},
+      {"profile_step", s.profile_step},
+      {"swarm_cutoff", s.swarm_cutoff},
+  };
+  if (s.start) j["start"] = *s.start;
+  if (!s.resumed_from.empty()) j["resumed_from"] = s.resumed_from;
+  return j;
+}
+
+YarnFitSettingsRecord read_settings(const json& s, const Where& at) {
+  YarnFitSettingsRecord r;
+  r.global_method = string(s, "global_method", at, "swarm");  // the only method before the staged search
+  const json& staged = object_or_empty(s, "staged", at);
+  const Where ws = at / "staged";
+  r.staged_contact = read_stage_settings(staged, "contact", ws);
+  r.staged_all = read_stage_settings(staged, "all", ws);
+  r.staged_r1_window = number(staged, "r1_window", ws, k_nan);
+  r.staged_rescored = integer(staged, "rescored", ws, 0);
+  r.staged_starts = integer(staged, "starts", ws, 0);
+  const json& alternation = object_or_empty(s, "alternation", at);
+  const Where wa = at / "alternation";
+  r.alternation_max_rounds = integer(alternation, "max_rounds", wa, 0);
+  r.alternation_iterations_per_round = integer(alternation, "iterations_per_round", wa, 0);
+  r.alternation_initial_radius = number(alternation, "initial_radius", wa, k_nan);
+  r.alternation_move_tolerance = number(alternation, "move_tolerance", wa, k_nan);
+  r.particles = integer(s, "particles", at, 0);
+  r.iterations = integer(s, "iterations", at, 0);
+  r.swarm_samples = integer(s, "swarm_samples", at, 0);
+  r.local_samples = integer(s, "local_samples", at, 0);
+  r.local_method = string(s, "local_method", at, "?");
+  r.local_evaluations = integer(s, "local_evaluations", at, 0);
+  r.swarm_compression_nodes = integer(s, "swarm_compression_nodes", at, 0);
+  r.local_compression_nodes = integer(s, "local_compression_nodes", at, 0);
+  if (const json* seed = member(s, "seed")) {
+    if (!seed->is_number_unsigned() && !(seed->is_number_integer() && seed->get<long long>() >= 0))
+      (at / "seed").bad("a non-negative integer");
+    r.seed = seed->get<std::uint64_t>();
+  }
+  r.swarm = boolean(s, "swarm", at, true);
+  r.linear_stretch = boolean(s, "linear_stretch", at, false);
+  r.rest_shape = boolean(s, "rest_shape", at, true);
+  r.rest_period = boolean(s, "rest_period", at, false);
+  r.band_correction = boolean(s, "band_correction", at, false);
+  r.bending_points = integer(s, "bending_points", at, 0);
+  r.profile_step = number(s, "profile_step", at, k_nan);
+  r.swarm_cutoff = boolean(s, "swarm_cutoff", at, true);
+  if (member(s, "start")) r.start = number_map(s, "start", at);
+  r.resumed_from = string(s, "resumed_from", at);
+  return r;
+}
+
+// ------------------------------------------------------------------------------ search records
+
+json swarm_json(const SwarmRecord& s) {
+  json history = json::array();
+  for (const auto& h : s.history)
+    history.push_back({{"iteration", h.iteration}, {"best", pct_json(h.best)}, {"failed", h.failed}});
+  return {{"best", pct_json(s.best)},
+          {"evaluations", s.evaluations},
+          {"failed", s.failed},
+          {"stopped_at_cutoff", s.stopped_at_cutoff},
+          {"history", history},
+          {"report", s.report}};
+}
+
+SwarmRecord read_swarm(const json& s, const Where& at) {
+  expect_object(s, at);
+  SwarmRecord r{number(s, "best", at, k_nan), integer(s, "evaluations", at, 0), integer(s, "failed", at, 0),
+                integer(s, "stopped_at_cutoff", at, 0), {}, string(s, "report", at)};
+  for_each_object(s, "history", at, [&r](const json& h, const Where& w) {
+    r.history.push_back({integer(h, "iteration", w, 0), number(h, "best", w, k_nan), integer(h, "failed", w, 0)});
+  });
+  return r;
+}
+
+json global_json(const GlobalRecord& g) {
+  json stages = json::array();
+  for (const auto& st : g.stages)
+    stages.push_back({{"stage", st.stage},
+                      {"evaluations", st.evaluations},
+                      {"stopped_at_cutoff", st.stopped_at_cutoff},
+                      {"best", pct_json(st.best)},
+                      {"seconds", st.seconds},
+                      {"report", st.report}});
+  return {{"method", g.method}, {"stages", stages}};
+}
+
+GlobalRecord read_global(const json& g, const Where& at) {
+  expect_object(g, at);
+  GlobalRecord r{string(g, "method", at), {}};
+  for_each_object(g, "stages", at, [&r](const json& st, const Where& w) {
+    r.stages.push_back({string(st, "stage", w), integer(st, "evaluations", w, 0), integer(st, "stopped_at_cutoff", w, 0),
+                        number(st, "best", w, k_nan), number(st, "seconds", w, k_nan), string(st, "report", w)});
+  });
+  return r;
+}
+
+json local_run_json(const LocalRunRecord& l) {
+  json j = {{"method", l.method},      {"status", l.status},          {"converged", l.converged},
+            {"best", pct_json(l.best)}, {"start", pct_json(l.start)}, {"evaluations", l.evaluations},
+            {"failed", l.failed},      {"seconds", l.seconds},        {"report", l.report}};
+  if (l.iterations) j["iterations"] = *l.iterations;
+  if (l.final_scale) j["final_scale"] = *l.final_scale;
+  if (l.history) {
+    json history = json::array();
+    for (const auto& h : *l.history)
+      history.push_back({{"evaluations", h.evaluations},
+                         {"scale", h.scale},
+                         {"best", h.best},
+                         {"move", h.move},
+                         {"trials", h.trials}});
+    j["history"] = history;
+  }
+  if (l.rounds) {
+    json rounds = json::array();
+    for (const auto& r : *l.rounds)
+      rounds.push_back({{"round", r.round},
+                        {"objective_start", pct_json(r.objective_start)},
+                        {"objective_held", pct_json(r.objective_held)},
+                        {"objective_trial", pct_json(r.objective_trial)},
+                        {"accepted", r.accepted},
+                        {"move", r.move},
+                        {"iterations", r.iterations},
+                        {"evaluations", r.evaluations},
+                        {"termination", r.termination}});
+    j["rounds"] = rounds;
+  }
+  if (l.last_move) j["last_move"] = *l.last_move;
+  if (l.fell_back) j["fell_back"] = *l.fell_back;
+  if (l.fallback) j["fallback"] = {{"reason", l.fallback->reason}, {"report", l.fallback->report}};
+  return j;
+}
+
+LocalRunRecord read_local_run(const json& l, const Where& at) {
+  expect_object(l, at);
+  LocalRunRecord r;
+  r.method = string(l, "method", at);
+  r.status = string(l, "status", at);
+  r.converged = boolean(l, "converged", at, false);
+  r.best = number(l, "best", at, k_nan);
+  r.start = number(l, "start", at, k_nan);
+  r.evaluations = integer(l, "evaluations", at, 0);
+  r.failed = integer(l, "failed", at, 0);
+  r.seconds = number(l, "seconds", at, k_nan);
+  r.report = string(l, "report", at);
+  if (member(l, "iterations")) r.iterations = integer(l, "iterations", at, 0);
+  if (member(l, "final_scale")) r.final_scale = number(l, "final_scale", at, k_nan);
+  if (member(l, "history")) {
+    r.history.emplace();
+    for_each_object(l, "history", at, [&r](const json& h, const Where& w) {
+      r.history->push_back({integer(h, "evaluations", w, 0), number(h, "scale", w, k_nan), number(h, "best", w, k_nan),
+                            string(h, "move", w), integer(h, "trials", w, 0)});
+    });
+  }
+  if (member(l, "rounds")) {
+    r.rounds.emplace();
+    for_each_object(l, "rounds", at, [&r](const json& x, const Where& w) {
+      r.rounds->push_back({integer(x, "round", w, 0), number(x, "objective_start", w, k_nan),
+                           number(x, "objective_held", w, k_nan), number(x, "objective_trial", w, k_nan),
+                           boolean(x, "accepted", w, false), number(x, "move", w, k_nan), integer(x, "iterations", w, 0),
+                           integer(x, "evaluations", w, 0), string(x, "termination", w)});
+    });
+  }
+  if (member(l, "last_move")) r.last_move = number(l, "last_move", at, k_nan);
+  if (member(l, "fell_back")) r.fell_back = boolean(l, "fell_back", at, false);
+  if (member(l, "fallback")) {
+    const json& f = object_or_empty(l, "fallback", at);
+    r.fallback = LocalFallback{string(f, "reason", at / "fallback"), string(f, "report", at / "fallback")};
+  }
+  return r;
+}
+
+}  // namespace
+
+YarnDirectionErrors YarnDirectionErrors::none() {
+  YarnDirectionErrors d;
+  d.stress_comfort_pct = d.stress_full_pct = d.compression_pct = d.comfort_stretch = d.objective = k_nan;
+  return d;
+}
+
+json direction_errors_json(const std::map<std::string, YarnDirectionErrors>& errors) {
+  json dirs = json::object();
+  for (const auto& [name, d] : errors) dirs[name] = direction_json(d);
+  return dirs;
+}
+
+std::map<std::string, double> named_errors(const YarnErrors& e) {
+  return {{"stress_comfort_pct", e.stress_comfort_pct},
+          {"stress_full_pct", e.stress_full_pct},
+          {"compression_pct", e.compression_pct},
+          {"bending_pct", e.bending_pct}};
+}
+
+std::map<std::string, double> named_times(const YarnTiming& t) {
+  return {{"swarm", t.swarm}, {"local", t.local}, {"bending_check", t.bending_check}, {"profile", t.profile},
+          {"total", t.total}};
+}
+
+json to_json(const YarnFitFile& f) {
+  json errors = json::object();
+  for (const auto& [name, v] : named_errors(f.errors)) errors[name] = pct_json(v);
+  json curves = json::array();
+  for (const auto& c : f.curves) curves.push_back(curve_json(c));
+  json timing = json::object();
+  for (const auto& [name, v] : named_times(f.timing_s)) timing[name] = v;
+  json j = {{"schema_version", k_yarn_fit_schema_version},
+            {"fabric", f.fabric},
+            {"family", f.family},
+            {"targets", f.targets},
+            {"ok", f.ok},
+            {"params", f.params},
+            {"errors", errors},
+            {"errors_by_direction", direction_errors_json(f.errors_by_direction)},
+            {"errors_reason", string_or_null(f.errors_reason)},
+            {"curves", curves},
+            {"effects", f.effects},
+            {"bounds", bounds_json(f.bounds)},
+            {"objective", pct_json(f.objective)},
+            {"on_bound", f.on_bound},
+            {"evaluations", f.evaluations},
+            {"timing_s", timing},
+            {"settings", settings_json(f.settings)}};
+  if (!f.message.empty()) j["message"] = f.message;
+  if (f.bending_check) j["bending_check"] = {{"ok", f.bending_check->ok}, {"message", f.bending_check->message}};
+  if (f.identifiability) j["identifiability"] = identifiability_json(*f.identifiability);
+  if (f.swarm) j["swarm"] = swarm_json(*f.swarm);
+  if (f.global) j["global"] = global_json(*f.global);
+  if (f.local) {
+    j["local"] = local_run_json(f.local->best);
+    json runs = json::array();
+    for (const auto& run : f.local->runs) runs.push_back(local_run_json(run));
+    j["local"]["runs"] = runs;
+  }
+  return j;
+}
+
+YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
+  const Where at(source);
+  expect_object(j, at);
+  YarnFitFile f;
+  f.schema_version = schema_version(j, at, k_yarn_fit_schema_version);
+  f.fabric = string(j, "fabric", at);
+  f.family = string(j, "family", at);
+  f.targets = string(j, "targets", at);
+  f.ok = boolean(j, "ok", at, false);
+  f.message = string(j, "message", at);
+  if (!member(j, "params")) at.bad("params (the fitted parameters)");
+  f.params = number_map(j, "params", at);
+  const json& errors = object_or_empty(j, "errors", at);
+  const Where we = at / "errors";
+  f.errors = {number(errors, "stress_comfort_pct", we, k_nan), number(errors, "stress_full_pct", we, k_nan),
+              number(errors, "compression_pct", we, k_nan), number(errors, "bending_pct", we, k_nan)};
+  for (const auto& [name, e] : object_or_empty(j, "errors_by_direction", at).items())
+    f.errors_by_direction[name] = read_direction(e, at / "errors_by_direction" / name);
+  f.errors_reason = string(j, "errors_reason", at);
+  for_each_object(j, "curves", at, [&f](const json& c, const Where& w) { f.curves.push_back(read_curve(c, w)); });
+  f.effects = strings(j, "effects", at);
+  f.bounds = read_bounds(j, at);
+  if (const json* check = member(j, "bending_check")) {
+    expect_object(*check, at / "bending_check");
+    f.bending_check = CheckOutcome{boolean(*check, "ok", at / "bending_check", true),
+                                   string(*check, "message", at / "bending_check")};
+  }
+  f.objective = number(j, "objective", at, k_nan);
+  f.on_bound = strings(j, "on_bound", at);
+  f.evaluations = integer(j, "evaluations", at, 0);
+  const json& t = object_or_empty(j, "timing_s", at);
+  const Where wt = at / "timing_s";
+  f.timing_s = {number(t, "swarm", wt, k_nan), number(t, "local", wt, k_nan), number(t, "bending_check", wt, k_nan),
+                number(t, "profile", wt, k_nan), number(t, "total", wt, k_nan)};
+  if (const json* p = member(j, "identifiability")) f.identifiability = read_identifiability(*p, at / "identifiability");
+  f.settings = read_settings(object_or_empty(j, "settings", at), at / "settings");
+  if (const json* s = member(j, "swarm")) f.swarm = read_swarm(*s, at / "swarm");
+  if (const json* g = member(j, "global")) f.global = read_global(*g, at / "global");
+  if (const json* l = member(j, "local")) {
+    LocalRecord local{read_local_run(*l, at / "local"), {}};
+    for_each_object(*l, "runs", at / "local",
+                    [&local](const json& run, const Where& w) { local.runs.push_back(read_local_run(run, w)); });
+    f.local = std::move(local);
+  }
+  return f;
+}
+
+YarnFitFile read_yarn_fit_file(const std::filesystem::path& path) {
+  return yarn_fit_file_from_json(read_json_file(path), path.string());
+}
+
+}  // namespace yarnfit::results
