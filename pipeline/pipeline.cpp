@@ -40,18 +40,6 @@ void check_generated_pattern(const db::Fabric& fabric, const PipelineOptions& op
   calibration::check_yarn_stiffness(fabric, problems);
 }
 
-// What must hold before any work; the yarn problem (no targets yet) when the yarn stage runs on
-// a record whose tile exists.
-void check(const db::Fabric& fabric, const PipelineOptions& options, db::Problems& problems,
-           std::optional<calibration::YarnFitProblem>* problem) {
-  if (!runs_yarn(options.stages)) return;
-  if (tile_to_generate(fabric)) check_generated_pattern(fabric, options, problems);
-  else if (auto p = yarn_problem(fabric, options, problems); problem) *problem = std::move(p);
-  if (options.stages == Stages::yarn) {
-    if (options.targets.empty()) problems.add("", 0, "targets", "the yarn stage alone needs a targets file");
-    else (void)db::read_uniform_targets(options.targets, problems);
-  }
-}
 
 // Stage 1: the shell fit and its uniform targets. False when the pipeline ends here.
 bool run_shell_stage(const db::Fabric& fabric, const PipelineOptions& options, PipelineResult& result,
@@ -68,14 +56,15 @@ bool run_shell_stage(const db::Fabric& fabric, const PipelineOptions& options, P
 }
 
 // Stage 2: the yarn fit on the shell stage's targets, handed over in memory (as the file holds
-// them), or on the targets file.
-void run_yarn_stage(const PipelineOptions& options, PipelineResult& result) {
+// them), or on the targets file's (read by prepare_fit).
+void run_yarn_stage(const PipelineOptions& options, std::vector<db::DirectionTargets> file_targets,
+                    PipelineResult& result) {
   const auto yarn_start = Clock::now();
   auto& problem = *result.yarn_problem;
   if (result.shell) {
     problem.targets = result.shell->targets;
   } else {
-    problem.targets = db::read_uniform_targets(options.targets);
+    problem.targets = std::move(file_targets);
     problem.targets_source = options.targets.string();
   }
   try {
@@ -92,15 +81,15 @@ void run_yarn_stage(const PipelineOptions& options, PipelineResult& result) {
   result.seconds_yarn = seconds_since(yarn_start);
 }
 
-PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Clock::time_point start) {
+PipelineResult run(PreparedFit prepared, const PipelineOptions& options, Clock::time_point start) {
   PipelineResult result;
-  result.fabric_id = given.id;
-  result.fabric_folder = given.folder;
+  db::Fabric& fabric = prepared.fabric;
+  result.fabric_id = fabric.id;
+  result.fabric_folder = fabric.folder;
   result.yarn_settings = options.yarn;
   result.stages = options.stages;
-  result.problems = options.problems();
-  db::Fabric fabric = given;
-  check(fabric, options, result.problems, &result.yarn_problem);
+  result.problems = std::move(prepared.problems);
+  result.yarn_problem = std::move(prepared.yarn_problem);
   if (result.problems.empty() && runs_yarn(options.stages) && tile_to_generate(fabric)) {
     // The stage "tile": a knit's tile is generated now that nothing else stands in the way.
     calibration::make_generated_pattern(fabric, options.tile_cache, result.problems);
@@ -113,7 +102,7 @@ PipelineResult run(const db::Fabric& given, const PipelineOptions& options, Cloc
     return result;
   }
   const bool yarn_next = !runs_shell(options.stages) || run_shell_stage(fabric, options, result, start);
-  if (yarn_next) run_yarn_stage(options, result);
+  if (yarn_next) run_yarn_stage(options, std::move(prepared.targets).value_or(std::vector<db::DirectionTargets>{}), result);
   result.seconds_total = seconds_since(start);
   return result;
 }
@@ -149,14 +138,29 @@ db::Problems PipelineOptions::problems() const {
   return out;
 }
 
+PreparedFit prepare_fit(const db::Fabric& fabric, const PipelineOptions& options) {
+  PreparedFit out{fabric, std::nullopt, std::nullopt, options.problems()};
+  if (!runs_yarn(options.stages)) return out;
+  if (tile_to_generate(fabric)) check_generated_pattern(fabric, options, out.problems);
+  else out.yarn_problem = yarn_problem(fabric, options, out.problems);
+  if (options.stages == Stages::yarn) {
+    if (options.targets.empty()) out.problems.add("", 0, "targets", "the yarn stage alone needs a targets file");
+    else out.targets = db::read_uniform_targets(options.targets, out.problems);
+  }
+  return out;
+}
+
 db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options) {
-  db::Problems problems = options.problems();
-  check(fabric, options, problems, nullptr);
-  return problems;
+  return prepare_fit(fabric, options).problems;
+}
+
+PipelineResult run_prepared(PreparedFit prepared, const PipelineOptions& options) {
+  return run(std::move(prepared), options, Clock::now());
 }
 
 PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options) {
-  return run(fabric, options, Clock::now());
+  const auto start = Clock::now();
+  return run(prepare_fit(fabric, options), options, start);
 }
 
 PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const PipelineOptions& options) {
@@ -172,7 +176,7 @@ PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const Pi
     result.problems.append(options.problems());
     return result;
   }
-  return run(*load.fabric, options, start);
+  return run(prepare_fit(*load.fabric, options), options, start);
 }
 
 results::ShellFitFile shell_fit_file(const PipelineResult& result) {

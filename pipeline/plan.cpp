@@ -22,13 +22,21 @@ PipelineOptions stage_options(const FitPlan& plan, const std::string& fabric_id,
   return o;
 }
 
-// Everything that refuses the plan of the record `load`, with its stages' `options`.
-db::Problems refusals(const FitPlan& plan, const db::FabricLoad& load, const PipelineOptions& options) {
-  db::Problems problems = load.problems;
-  problems.append(load.ok() ? pipeline_problems(*load.fabric, options) : options.problems());
+// The record `load` prepared for the stages; its problems are everything that refuses the plan
+// (the record's, the stages' with these `options`, every output file in the way).
+std::optional<PreparedFit> prepare(const FitPlan& plan, const db::FabricLoad& load, const PipelineOptions& options,
+                                   db::Problems& problems) {
+  std::optional<PreparedFit> prepared;
+  problems.append(load.problems);
+  if (load.ok()) {
+    prepared = prepare_fit(*load.fabric, options);
+    problems.append(prepared->problems);
+  } else {
+    problems.append(options.problems());
+  }
   problems.append(output_problems(plan.out, output_files(plan.options.stages), plan.overwrite));
   if (plan.report) problems.append(output_problems(plan.out, report_files(), plan.overwrite));
-  return problems;
+  return prepared;
 }
 
 // The report stage: out/report/ from the files just written.
@@ -54,21 +62,23 @@ const char* to_string(Stage stage) {
 
 db::Problems check_plan(const FitPlan& plan) {
   const db::FabricLoad load = db::load_fabric(plan.fabric);
-  return refusals(plan, load, stage_options(plan, load.id, {}));
+  db::Problems problems;
+  (void)prepare(plan, load, stage_options(plan, load.id, {}), problems);
+  return problems;
 }
 
 PlanResult run_plan(const FitPlan& plan, const PlanObserver& observer, db::Problems problems) {
   PlanResult result;
   const db::FabricLoad load = db::load_fabric(plan.fabric);
   const PipelineOptions options = stage_options(plan, load.id, observer);
-  problems.append(refusals(plan, load, options));
+  std::optional<PreparedFit> prepared = prepare(plan, load, options, problems);
   if (!problems.empty()) {
     result.fit.status = PipelineStatus::invalid_input;
     result.fit.message = "invalid input: nothing was run";
     result.fit.problems = std::move(problems);
     return result;
   }
-  result.fit = run_pipeline(*load.fabric, options);
+  result.fit = run_prepared(std::move(*prepared), options);
   if (result.fit.status == PipelineStatus::invalid_input) return result;
   try {
     result.outputs = write_outputs(result.fit, plan.out);

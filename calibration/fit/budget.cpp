@@ -17,38 +17,43 @@ std::optional<Budget> budget_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-void apply_budget(Budget budget, YarnFitSettings& s) {
+namespace {
+
+// What a budget sets: the search's size, nothing of the physics.
+struct BudgetPreset {
+  SwarmStageSettings contact;
+  SwarmStageSettings all;
+  int rescored = 0;
+  int starts = 0;
+  int local_samples = 0;
+  int max_rounds = 0;
+  int particles = 0;  // the thesis's swarm (global_method swarm)
+  int iterations = 0;
+};
+
+BudgetPreset preset(Budget budget) {
   switch (budget) {
-    case Budget::quick:
-      s.staged.contact = {6, 3, 3, 8};
-      s.staged.all = {10, 3, 3, 8};
-      s.staged.rescored = 2;
-      s.staged.starts = 1;
-      s.local_samples = 8;
-      s.alternation.max_rounds = 5;
-      s.particles = 32;
-      s.iterations = 5;
-      break;
-    case Budget::standard: {
-      const YarnFitSettings defaults;
-      s.staged = defaults.staged;
-      s.local_samples = defaults.local_samples;
-      s.alternation = defaults.alternation;
-      s.particles = defaults.particles;
-      s.iterations = defaults.iterations;
-      break;
-    }
-    case Budget::thorough:
-      s.staged.contact = {16, 6, 4, 40};
-      s.staged.all = {32, 8, 5, 40};
-      s.staged.rescored = 8;
-      s.staged.starts = 4;
-      s.local_samples = 20;
-      s.alternation.max_rounds = 12;
-      s.particles = 128;
-      s.iterations = 20;
-      break;
+    case Budget::quick: return {{6, 3, 3, 8}, {10, 3, 3, 8}, 2, 1, 8, 5, 32, 5};
+    case Budget::thorough: return {{16, 6, 4, 40}, {32, 8, 5, 40}, 8, 4, 20, 12, 128, 20};
+    case Budget::standard: break;
   }
+  const YarnFitSettings d;  // the defaults
+  return {d.staged.contact, d.staged.all,         d.staged.rescored, d.staged.starts,
+          d.local_samples,  d.alternation.max_rounds, d.particles,   d.iterations};
+}
+
+}  // namespace
+
+void apply_budget(Budget budget, YarnFitSettings& s) {
+  const BudgetPreset p = preset(budget);
+  s.staged.contact = p.contact;
+  s.staged.all = p.all;
+  s.staged.rescored = p.rescored;
+  s.staged.starts = p.starts;
+  s.local_samples = p.local_samples;
+  s.alternation.max_rounds = p.max_rounds;
+  s.particles = p.particles;
+  s.iterations = p.iterations;
 }
 
 }  // namespace yarnfit::calibration

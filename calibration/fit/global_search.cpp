@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "calibration/fit/fit_progress.hpp"
 #include "numerics/util/clock.hpp"
 
 namespace yarnfit::calibration {
@@ -19,16 +20,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 void report(const GlobalSearchInput& in, const std::string& stage, const char* step_name, int step, int steps,
             double best) {
-  if (!in.progress) return;
-  reports::Progress p;
-  p.stage = stage;
-  p.step_name = step_name;
-  p.step = step;
-  p.steps = steps;
-  p.best = best;
-  p.best_label = "objective";
-  p.seconds = in.elapsed ? in.elapsed() : 0.0;
-  in.progress(p);
+  if (in.progress) in.progress(fit_progress(stage, step_name, step, steps, false, best, in.elapsed ? in.elapsed() : 0.0));
 }
 
 using Embed = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "calibration/fit/fit_checkpoint.hpp"
+#include "calibration/fit/fit_progress.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/terms/scene.hpp"
 #include "numerics/util/clock.hpp"
@@ -22,23 +23,6 @@ namespace {
 
 using numerics::Clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-
-// A progress event of the fit: the best objective of the stage, its planned steps (the local
-// step may stop before its evaluation budget).
-reports::Progress fit_progress(const char* stage, const char* step_name, int step, int steps, bool budget,
-                               double best, double seconds) {
-  reports::Progress p;
-  p.stage = stage;
-  p.step_name = step_name;
-  p.step = step;
-  p.steps = steps;
-  p.budget = budget;
-  p.best = best;
-  p.best_label = "objective";
-  p.seconds = seconds;
-  return p;
-}
 
 // 0: c* at every sample; N ≥ 2: at N nodes, at most one per sample.
 void set_compression_nodes(ObjectiveOptions& o, int nodes, int samples) {
@@ -278,7 +262,7 @@ class FitRun {
   void report_local(int run, int evaluations, double best) const {
     if (!m_s.progress) return;
     const std::string stage = "local " + std::to_string(run + 1);
-    m_s.progress(fit_progress(stage.c_str(), "evaluation", evaluations, m_s.local_evaluations, true, best, elapsed()));
+    m_s.progress(fit_progress(stage, "evaluation", evaluations, m_s.local_evaluations, true, best, elapsed()));
   }
 
   void save() const {

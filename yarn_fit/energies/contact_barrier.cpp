@@ -107,6 +107,42 @@ double TwoBarrierContact::d2e(double distance) const {
   return contact_law(*this, distance).d2e;
 }
 
+namespace {
+
+// Simpson's rule on both edges: the 3 × 3 point pairs (x_a(s_i), x_b(s_j)) with weights
+// w_i w_j L̄a L̄b. visit(d, dist, omega, si, sj) is called for each pair closer than the
+// cutoff, d = x_a − x_b; false when two points coincide (the barrier is infinite there) or the
+// bounding boxes of the edges already lie farther apart than the cutoff (`apart` says which).
+template <class Visit>
+bool for_each_point_pair(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, double rest_length_a,
+                         double rest_length_b, double cutoff, bool& apart, Visit&& visit) {
+  const double cutoff2 = cutoff * cutoff;
+  // Broad phase at element level: distance between the two axis-aligned bounding boxes.
+  const Vec3 amin = a0.cwiseMin(a1), amax = a0.cwiseMax(a1);
+  const Vec3 bmin = b0.cwiseMin(b1), bmax = b0.cwiseMax(b1);
+  const Vec3 gap = (bmin - amax).cwiseMax(amin - bmax).cwiseMax(0.0);
+  apart = gap.squaredNorm() >= cutoff2;
+  if (apart) return true;
+  static constexpr std::array<double, 3> s{0.0, 0.5, 1.0};
+  static constexpr std::array<double, 3> w{1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};
+  const std::array<Vec3, 3> xa{a0, 0.5 * (a0 + a1), a1};
+  const std::array<Vec3, 3> xb{b0, 0.5 * (b0 + b1), b1};
+  const double rest_area = rest_length_a * rest_length_b;
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t j = 0; j < 3; ++j) {
+      const Vec3 d = xa[i] - xb[j];
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= cutoff2) continue;
+      const double dist = std::sqrt(dist2);
+      if (!(dist > 0.0)) return false;
+      visit(d, dist, w[i] * w[j] * rest_area, s[i], s[j]);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 double contact_element(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1,
                        double rest_length_a, double rest_length_b,
                        const TwoBarrierContact& model, Vec<12>* gradient, Mat<12>* hessian,
@@ -114,71 +150,48 @@ double contact_element(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec
   if (gradient != nullptr) gradient->setZero();
   if (hessian != nullptr) hessian->setZero();
 
-  // Broad phase at element level: distance between the two axis-aligned bounding boxes.
-  const double cutoff = model.cutoff_distance();
-  const double cutoff2 = cutoff * cutoff;
-  {
-    const Vec3 amin = a0.cwiseMin(a1), amax = a0.cwiseMax(a1);
-    const Vec3 bmin = b0.cwiseMin(b1), bmax = b0.cwiseMax(b1);
-    const Vec3 gap = (bmin - amax).cwiseMax(amin - bmax).cwiseMax(0.0);
-    if (gap.squaredNorm() >= cutoff2) return 0.0;
-  }
-
-  static constexpr std::array<double, 3> s{0.0, 0.5, 1.0};
-  static constexpr std::array<double, 3> w{1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};
-  const std::array<Vec3, 3> xa{a0, 0.5 * (a0 + a1), a1};
-  const std::array<Vec3, 3> xb{b0, 0.5 * (b0 + b1), b1};
-  const double rest_area = rest_length_a * rest_length_b;
-
   double value = 0.0;
-  for (std::size_t i = 0; i < 3; ++i) {
-    for (std::size_t j = 0; j < 3; ++j) {
-      const Vec3 d = xa[i] - xb[j];
-      const double dist2 = d.squaredNorm();
-      if (dist2 >= cutoff2) continue;
-      const double dist = std::sqrt(dist2);
-      if (!(dist > 0.0)) return inf;
-      const BarrierTerm law = contact_law(model, dist);
-      const double omega = w[i] * w[j] * rest_area;
-      value += omega * law.e;
-      if (gradient == nullptr && hessian == nullptr) continue;
-
-      const double si = s[i];
-      const double sj = s[j];
-      const std::array<double, 4> c{1.0 - si, si, sj - 1.0, -sj};
-      const Vec3 dh = d / dist;
-      if (gradient != nullptr) {
-        const Vec3 f = (omega * law.de) * dh;
-        for (std::size_t k = 0; k < 4; ++k) {
-          const double ck = c[k];
-          if (ck != 0.0) gradient->segment<3>(block_offset(k)) += ck * f;
-        }
+  bool apart = false;
+  const bool finite = for_each_point_pair(a0, a1, b0, b1, rest_length_a, rest_length_b, model.cutoff_distance(), apart,
+                                          [&](const Vec3& d, double dist, double omega, double si, double sj) {
+    const BarrierTerm law = contact_law(model, dist);
+    value += omega * law.e;
+    if (gradient == nullptr && hessian == nullptr) return;
+    const std::array<double, 4> c{1.0 - si, si, sj - 1.0, -sj};
+    const Vec3 dh = d / dist;
+    if (gradient != nullptr) {
+      const Vec3 f = (omega * law.de) * dh;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const double ck = c[k];
+        if (ck != 0.0) gradient->segment<3>(block_offset(k)) += ck * f;
       }
-      if (hessian != nullptr) {
-        double axial = law.d2e;
-        double transverse = law.de / dist;
-        if (project_psd) {
-          axial = std::max(axial, 0.0);
-          transverse = std::max(transverse, 0.0);
-        }
-        if (axial == 0.0 && transverse == 0.0) continue;
-        // The outer product is formed before scaling so that m is exactly symmetric (Eigen
-        // folds a scalar factor into one side of a product, which breaks that in the last bit).
-        const Eigen::Matrix3d dd = dh * dh.transpose();
-        const Eigen::Matrix3d m =
-            omega * (transverse * Eigen::Matrix3d::Identity() + (axial - transverse) * dd);
-        for (std::size_t k = 0; k < 4; ++k) {
-          const double ck = c[k];
-          if (ck == 0.0) continue;
-          for (std::size_t l = k; l < 4; ++l) {
-            const double cl = c[l];
-            if (cl == 0.0) continue;
-            hessian->block<3, 3>(block_offset(k), block_offset(l)) += (ck * cl) * m;
-          }
+    }
+    if (hessian != nullptr) {
+      double axial = law.d2e;
+      double transverse = law.de / dist;
+      if (project_psd) {
+        axial = std::max(axial, 0.0);
+        transverse = std::max(transverse, 0.0);
+      }
+      if (axial == 0.0 && transverse == 0.0) return;
+      // The outer product is formed before scaling so that m is exactly symmetric (Eigen
+      // folds a scalar factor into one side of a product, which breaks that in the last bit).
+      const Eigen::Matrix3d dd = dh * dh.transpose();
+      const Eigen::Matrix3d m =
+          omega * (transverse * Eigen::Matrix3d::Identity() + (axial - transverse) * dd);
+      for (std::size_t k = 0; k < 4; ++k) {
+        const double ck = c[k];
+        if (ck == 0.0) continue;
+        for (std::size_t l = k; l < 4; ++l) {
+          const double cl = c[l];
+          if (cl == 0.0) continue;
+          hessian->block<3, 3>(block_offset(k), block_offset(l)) += (ck * cl) * m;
         }
       }
     }
-  }
+  });
+  if (apart) return 0.0;
+  if (!finite) return inf;
   if (hessian != nullptr) {
     // Only the upper block triangle was accumulated (diagonal blocks are symmetric).
     for (int k = 1; k < 4; ++k) {
@@ -220,41 +233,21 @@ bool contact_element_sensitivity(const Vec3& a0, const Vec3& a1, const Vec3& b0,
                                  Vec<4>& d_energy, Eigen::Matrix<double, 12, 4>& d_gradient) {
   d_energy.setZero();
   d_gradient.setZero();
-  const double cutoff = model.cutoff_distance();
-  const double cutoff2 = cutoff * cutoff;
-  {
-    const Vec3 amin = a0.cwiseMin(a1), amax = a0.cwiseMax(a1);
-    const Vec3 bmin = b0.cwiseMin(b1), bmax = b0.cwiseMax(b1);
-    const Vec3 gap = (bmin - amax).cwiseMax(amin - bmax).cwiseMax(0.0);
-    if (gap.squaredNorm() >= cutoff2) return true;
-  }
-  static constexpr std::array<double, 3> s{0.0, 0.5, 1.0};
-  static constexpr std::array<double, 3> w{1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0};
-  const std::array<Vec3, 3> xa{a0, 0.5 * (a0 + a1), a1};
-  const std::array<Vec3, 3> xb{b0, 0.5 * (b0 + b1), b1};
-  const double rest_area = rest_length_a * rest_length_b;
-  for (std::size_t i = 0; i < 3; ++i) {
-    for (std::size_t j = 0; j < 3; ++j) {
-      const Vec3 d = xa[i] - xb[j];
-      const double dist2 = d.squaredNorm();
-      if (dist2 >= cutoff2) continue;
-      const double dist = std::sqrt(dist2);
-      if (!(dist > 0.0)) return false;
-      const double omega = w[i] * w[j] * rest_area;
-      const BarrierSensitivity soft = model.kc1 != 0.0 ? barrier_sensitivity(dist, model.kc1, model.r1) : BarrierSensitivity{};
-      const BarrierSensitivity stiff = model.kc2 != 0.0 ? barrier_sensitivity(dist, model.kc2, model.r2) : BarrierSensitivity{};
-      const Vec<4> de(soft.e_kc, soft.e_r, stiff.e_kc, stiff.e_r);
-      const Vec<4> dde(soft.de_kc, soft.de_r, stiff.de_kc, stiff.de_r);
-      d_energy += omega * de;
-      const std::array<double, 4> c{1.0 - s[i], s[i], s[j] - 1.0, -s[j]};
-      const Vec3 dh = d / dist;
-      for (std::size_t k = 0; k < 4; ++k) {
-        if (c[k] == 0.0) continue;
-        d_gradient.block<3, 4>(block_offset(k), 0) += (omega * c[k]) * dh * dde.transpose();
-      }
+  bool apart = false;
+  return for_each_point_pair(a0, a1, b0, b1, rest_length_a, rest_length_b, model.cutoff_distance(), apart,
+                             [&](const Vec3& d, double dist, double omega, double si, double sj) {
+    const BarrierSensitivity soft = model.kc1 != 0.0 ? barrier_sensitivity(dist, model.kc1, model.r1) : BarrierSensitivity{};
+    const BarrierSensitivity stiff = model.kc2 != 0.0 ? barrier_sensitivity(dist, model.kc2, model.r2) : BarrierSensitivity{};
+    const Vec<4> de(soft.e_kc, soft.e_r, stiff.e_kc, stiff.e_r);
+    const Vec<4> dde(soft.de_kc, soft.de_r, stiff.de_kc, stiff.de_r);
+    d_energy += omega * de;
+    const std::array<double, 4> c{1.0 - si, si, sj - 1.0, -sj};
+    const Vec3 dh = d / dist;
+    for (std::size_t k = 0; k < 4; ++k) {
+      if (c[k] == 0.0) continue;
+      d_gradient.block<3, 4>(block_offset(k), 0) += (omega * c[k]) * dh * dde.transpose();
     }
-  }
-  return true;
+  });
 }
 
 }  // namespace yarnfit::yarn
