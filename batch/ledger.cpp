@@ -1,5 +1,7 @@
 #include "batch/ledger.hpp"
 
+#include "batch/sqlite_statement.hpp"
+
 #include <sqlite3.h>
 #include <unistd.h>
 
@@ -56,63 +58,7 @@ CREATE TABLE IF NOT EXISTS events(
 )sql";
 
 // A prepared statement; every failure throws LedgerError naming the ledger file.
-class Statement {
- public:
-  Statement(sqlite3* db, const std::filesystem::path& file, const std::string& sql) : m_db(db), m_file(file) {
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &m_stmt, nullptr) != SQLITE_OK) fail("prepare");
-  }
-  ~Statement() { sqlite3_finalize(m_stmt); }
-  Statement(const Statement&) = delete;
-  Statement& operator=(const Statement&) = delete;
-
-  Statement& bind(int i, const std::string& text) {
-    check(sqlite3_bind_text(m_stmt, i, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT));
-    return *this;
-  }
-  Statement& bind(int i, double value) {
-    check(std::isfinite(value) ? sqlite3_bind_double(m_stmt, i, value) : sqlite3_bind_null(m_stmt, i));
-    return *this;
-  }
-  Statement& bind(int i, long value) {
-    check(sqlite3_bind_int64(m_stmt, i, value));
-    return *this;
-  }
-  Statement& bind_null(int i) {
-    check(sqlite3_bind_null(m_stmt, i));
-    return *this;
-  }
-  // True while there is a row.
-  bool step() {
-    const int rc = sqlite3_step(m_stmt);
-    if (rc == SQLITE_ROW) return true;
-    if (rc != SQLITE_DONE) fail("step");
-    return false;
-  }
-  void run() {
-    while (step()) {
-    }
-  }
-  [[nodiscard]] std::string text(int col) const {
-    const auto* p = sqlite3_column_text(m_stmt, col);
-    return p ? std::string(reinterpret_cast<const char*>(p)) : std::string();
-  }
-  [[nodiscard]] double real(int col) const {
-    return sqlite3_column_type(m_stmt, col) == SQLITE_NULL ? std::numeric_limits<double>::quiet_NaN()
-                                                            : sqlite3_column_double(m_stmt, col);
-  }
-  [[nodiscard]] long integer(int col) const { return static_cast<long>(sqlite3_column_int64(m_stmt, col)); }
-
- private:
-  void check(int rc) {
-    if (rc != SQLITE_OK) fail("bind");
-  }
-  [[noreturn]] void fail(const char* what) const {
-    throw LedgerError(m_file.string() + ": " + what + ": " + sqlite3_errmsg(m_db));
-  }
-  sqlite3* m_db;
-  const std::filesystem::path& m_file;
-  sqlite3_stmt* m_stmt = nullptr;
-};
+using Statement = SqliteStatement<LedgerError>;
 
 constexpr const char* k_job_columns =
     "fabric_id, family, folder, hash, options, status, stage, attempts, host, pid, heartbeat, started, ended, error";
@@ -166,15 +112,8 @@ Ledger Ledger::open_read_only(const std::filesystem::path& file) {
 }
 
 Ledger::Ledger(const std::filesystem::path& file, bool read_only) : m_file(file) {
-  const int flags = read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-  if (sqlite3_open_v2(file.c_str(), &m_db, flags, nullptr) != SQLITE_OK) {
-    const std::string why = m_db ? sqlite3_errmsg(m_db) : "out of memory";
-    sqlite3_close(m_db);
-    m_db = nullptr;
-    throw LedgerError(file.string() + ": cannot open the batch ledger: " + why);
-  }
   // Readers (status, sqlite3) wait for the writer's short transactions instead of failing.
-  sqlite3_busy_timeout(m_db, 10000);
+  m_db = open_sqlite<LedgerError>(file, read_only, "the batch ledger");
   if (read_only) return;
   // WAL: readers never block the writer; synchronous=FULL: a committed job survives a power cut.
   exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
@@ -196,26 +135,9 @@ Ledger::~Ledger() {
 
 Ledger::Ledger(Ledger&& other) noexcept : m_file(std::move(other.m_file)), m_db(std::exchange(other.m_db, nullptr)) {}
 
-void Ledger::exec(const std::string& sql) const {
-  char* message = nullptr;
-  if (sqlite3_exec(m_db, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-    const std::string why = message ? message : sqlite3_errmsg(m_db);
-    sqlite3_free(message);
-    if (sql.rfind("BEGIN", 0) == 0) sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw LedgerError(m_file.string() + ": " + why);
-  }
-}
+void Ledger::exec(const std::string& sql) const { exec_sql<LedgerError>(m_db, m_file, sql); }
 
-void Ledger::transaction(const std::function<void()>& body) {
-  exec("BEGIN IMMEDIATE");
-  try {
-    body();
-  } catch (...) {
-    sqlite3_exec(m_db, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
-  }
-  exec("COMMIT");
-}
+void Ledger::transaction(const std::function<void()>& body) { sql_transaction<LedgerError>(m_db, m_file, body); }
 
 std::optional<JobRow> Ledger::job(const std::string& fabric_id) const {
   Statement s(m_db, m_file, std::string("SELECT ") + k_job_columns + " FROM jobs WHERE fabric_id = ?1");

@@ -1,0 +1,94 @@
+// yarnfit serve user add|token|revoke|list …: the fitting service's accounts (issue 35), kept in
+// DATA_DIR/accounts.db by the service library (service/accounts/accounts.hpp). A token is
+// printed once, when it is issued; only its hash is stored.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.hpp"
+#include "service/accounts/accounts.hpp"
+
+namespace yarnfit::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct UserArgs {
+  std::string name;
+  std::string data_dir;
+  bool admin = false;
+};
+
+// The accounts of DATA_DIR (created with the folder when absent).
+service::Accounts open_accounts(const std::string& data_dir) {
+  fs::create_directories(data_dir);
+  return service::Accounts(fs::path(data_dir) / "accounts.db");
+}
+
+void print_token(const service::IssuedToken& issued, const std::string& data_dir) {
+  std::cout << "user " << issued.account.name << (issued.account.admin ? " (admin)" : "") << " in " << data_dir
+            << "\ntoken: " << issued.token
+            << "\nKeep it now: it is shown this once (only its hash is stored). Requests carry it as "
+               "'Authorization: Bearer <token>'.\n";
+}
+
+// Runs one accounts action; a bad name, an unknown user or an unusable database is refused.
+template <class Action>
+int with_accounts(const std::string& data_dir, Action action) {
+  try {
+    service::Accounts accounts = open_accounts(data_dir);
+    action(accounts);
+    return k_exit_ok;
+  } catch (const service::AccountError& e) {
+    std::cerr << "serve user: " << e.what() << "\n";
+  } catch (const fs::filesystem_error& e) {
+    std::cerr << "serve user: " << e.what() << "\n";
+  }
+  return k_exit_invalid_input;
+}
+
+}  // namespace
+
+void add_serve_commands(CLI::App& app, int& exit_code) {
+  auto* serve = app.add_subcommand("serve", "The fitting service: its accounts (`serve user …`)");
+  serve->require_subcommand(1);
+  auto* user = serve->add_subcommand("user", "Users of the service and their API tokens (DATA_DIR/accounts.db)");
+  user->require_subcommand(1);
+  auto args = std::make_shared<UserArgs>();
+  const auto name_and_dir = [&args](CLI::App* cmd) {
+    cmd->add_option("NAME", args->name, "User name: a-z, 0-9, '.', '_', '-'")->required();
+    cmd->add_option("DATA_DIR", args->data_dir, "The service's data folder")->required();
+  };
+  auto* add = user->add_subcommand("add", "Add a user and print their token (once)");
+  name_and_dir(add);
+  add->add_flag("--admin", args->admin, "The user sees every user's fabrics and jobs");
+  add->callback([args, &exit_code] {
+    exit_code = with_accounts(args->data_dir, [&](service::Accounts& a) {
+      print_token(a.add_user(args->name, args->admin), args->data_dir);
+    });
+  });
+  auto* token = user->add_subcommand("token", "Give a user a new token (the old one stops working) and print it");
+  name_and_dir(token);
+  token->callback([args, &exit_code] {
+    exit_code = with_accounts(args->data_dir, [&](service::Accounts& a) { print_token(a.new_token(args->name), args->data_dir); });
+  });
+  auto* revoke = user->add_subcommand("revoke", "Revoke a user's token: their requests are refused from now on");
+  name_and_dir(revoke);
+  revoke->callback([args, &exit_code] {
+    exit_code = with_accounts(args->data_dir, [&](service::Accounts& a) {
+      a.revoke(args->name);
+      std::cout << "user " << args->name << ": token revoked\n";
+    });
+  });
+  auto* list = user->add_subcommand("list", "List the users (never their tokens)");
+  list->add_option("DATA_DIR", args->data_dir, "The service's data folder")->required();
+  list->callback([args, &exit_code] {
+    exit_code = with_accounts(args->data_dir, [&](service::Accounts& a) {
+      for (const auto& u : a.list())
+        std::cout << u.name << (u.admin ? "  admin" : "") << (u.revoked ? "  revoked" : "") << "\n";
+    });
+  });
+}
+
+}  // namespace yarnfit::cli

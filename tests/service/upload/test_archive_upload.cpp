@@ -1,0 +1,227 @@
+// A fabric record uploaded as an archive (service/upload/archive_upload.hpp): a zipped record
+// folder and a .tar.gz of its files unpack to the same bytes; every hostile archive (names that
+// leave the folder, absolute names, links, devices, a zip bomb, too many files, too large an
+// upload, what is not an archive, a kind of file no record holds) is refused with its status
+// and leaves nothing behind, beside the folder or outside it.
+#include <gtest/gtest.h>
+
+#include <archive.h>
+#include <archive_entry.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tests/test_support.hpp"
+
+#include "service/upload/archive_upload.hpp"
+
+namespace yarnfit::service {
+namespace {
+
+namespace fs = std::filesystem;
+using yarnfit::testing::read_file;
+using yarnfit::testing::ScratchDir;
+
+enum class Kind { zip, tar_gz };
+
+struct Item {
+  std::string name;
+  std::string data;
+  unsigned type = AE_IFREG;
+  std::string link = {};  // symbolic or hard link target
+  bool hard = false;
+};
+
+Item file(const std::string& name, const std::string& data) { return {name, data, AE_IFREG, "", false}; }
+Item folder(const std::string& name) { return {name, "", AE_IFDIR, "", false}; }
+
+la_ssize_t append(archive*, void* out, const void* buffer, size_t size) {
+  static_cast<std::string*>(out)->append(static_cast<const char*>(buffer), size);
+  return static_cast<la_ssize_t>(size);
+}
+
+// An archive of `items` written by libarchive, as a client would send it.
+std::string make_archive(const std::vector<Item>& items, Kind kind) {
+  std::string out;
+  archive* a = archive_write_new();
+  if (kind == Kind::zip) {
+    archive_write_set_format_zip(a);
+  } else {
+    archive_write_set_format_pax_restricted(a);
+    archive_write_add_filter_gzip(a);
+  }
+  archive_write_set_bytes_in_last_block(a, 1);  // no padding after the archive, as zip and tar -z write
+  archive_write_open(a, &out, nullptr, append, nullptr);
+  for (const auto& item : items) {
+    archive_entry* e = archive_entry_new();
+    archive_entry_set_pathname(e, item.name.c_str());
+    archive_entry_set_filetype(e, item.type);
+    archive_entry_set_perm(e, 0644);
+    if (!item.link.empty()) {
+      if (item.hard) archive_entry_set_hardlink(e, item.link.c_str());
+      else archive_entry_set_symlink(e, item.link.c_str());
+    }
+    if (item.type == AE_IFCHR) archive_entry_set_rdev(e, 0x0103);
+    archive_entry_set_size(e, item.type == AE_IFREG && !item.hard ? static_cast<la_int64_t>(item.data.size()) : 0);
+    EXPECT_EQ(archive_write_header(a, e), ARCHIVE_OK) << item.name << ": " << archive_error_string(a);
+    if (item.type == AE_IFREG && !item.data.empty()) archive_write_data(a, item.data.data(), item.data.size());
+    archive_entry_free(e);
+  }
+  archive_write_close(a);
+  archive_write_free(a);
+  return out;
+}
+
+const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
+
+// The record's files by name, as a client zips its folder (under `prefix`).
+std::vector<Item> record_items(const std::string& prefix) {
+  std::vector<Item> items;
+  if (!prefix.empty()) items.push_back(folder(prefix));
+  for (const auto& e : fs::directory_iterator(k_record))
+    if (e.is_regular_file()) items.push_back(file(prefix + e.path().filename().string(), read_file(e.path())));
+  return items;
+}
+
+// Everything below `dir`, names relative to it: what a refusal must leave as it found it.
+std::set<std::string> listing(const fs::path& dir) {
+  std::set<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) out.insert(fs::relative(e.path(), dir).generic_string());
+  return out;
+}
+
+// Unpacks into DIR/data/fabric and expects a refusal with `status`, DIR unchanged (nothing
+// written there or beside it, no half-unpacked folder), and no file written outside DIR/data.
+void expect_refused(const std::string& bytes, int status, const std::string& says, const UploadLimits& limits = {}) {
+  ScratchDir dir("upload_refused");
+  fs::create_directories(dir / "data");
+  const std::set<std::string> before = listing(dir.path());
+  const UnpackedUpload r = unpack_upload(bytes, dir / "data" / "fabric", limits);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.refusal.status, status) << r.refusal.message;
+  EXPECT_NE(r.refusal.message.find(says), std::string::npos) << r.refusal.message;
+  EXPECT_EQ(listing(dir.path()), before);
+  EXPECT_FALSE(fs::exists("/tmp/yarnfit_evil.csv"));
+}
+
+TEST(ArchiveUpload, AZippedRecordFolderUnpacksToTheSameBytes) {
+  for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
+    ScratchDir dir("upload_ok");
+    // A zipped folder (its top folder taken off) and a .tar.gz of the files themselves.
+    const std::string prefix = kind == Kind::zip ? "stockinette_demo/" : "";
+    const UnpackedUpload r = unpack_upload(make_archive(record_items(prefix), kind), dir / "fabric");
+    ASSERT_TRUE(r.ok) << r.refusal.message;
+    std::vector<std::string> expected;
+    for (const auto& e : fs::directory_iterator(k_record)) {
+      expected.push_back(e.path().filename().string());
+      EXPECT_EQ(read_file(dir / "fabric" / e.path().filename()), read_file(e.path())) << e.path();
+    }
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(r.files, expected);
+    EXPECT_EQ(listing(dir.path()).size(), expected.size() + 1);  // the folder and its files, no staging left
+  }
+}
+
+TEST(ArchiveUpload, AMacZipsLitterIsPassedOver) {
+  ScratchDir dir("upload_mac");
+  std::vector<Item> items = record_items("swatch/");
+  items.push_back(file("__MACOSX/swatch/._fabric.yaml", std::string("\x00\x05\x16\x07", 4)));
+  items.push_back(file("swatch/.DS_Store", "bud1"));
+  const UnpackedUpload r = unpack_upload(make_archive(items, Kind::zip), dir / "fabric");
+  ASSERT_TRUE(r.ok) << r.refusal.message;
+  EXPECT_FALSE(fs::exists(dir / "fabric" / ".DS_Store"));
+  EXPECT_FALSE(fs::exists(dir / "fabric" / "__MACOSX"));
+  EXPECT_TRUE(fs::exists(dir / "fabric" / "fabric.yaml"));
+}
+
+TEST(ArchiveUpload, NamesThatLeaveTheFolderAreRefusedInBothKinds) {
+  for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
+    std::vector<Item> items = record_items("");
+    items.push_back(file("../yarnfit_evil.csv", "a,b\n"));
+    expect_refused(make_archive(items, kind), 422, "../yarnfit_evil.csv: a name may not leave the folder");
+    items.back().name = "sub/../../yarnfit_evil.csv";
+    expect_refused(make_archive(items, kind), 422, "may not leave the folder");
+    items.back().name = "/tmp/yarnfit_evil.csv";
+    expect_refused(make_archive(items, kind), 422, "/tmp/yarnfit_evil.csv: an absolute name");
+  }
+}
+
+TEST(ArchiveUpload, LinksAndDevicesAreRefused) {
+  for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
+    std::vector<Item> items = record_items("");
+    items.push_back({"passwd.csv", "", AE_IFLNK, "/etc/passwd", false});
+    expect_refused(make_archive(items, kind), 422, "passwd.csv: a symbolic link");
+  }
+  std::vector<Item> items = record_items("");
+  items.push_back({"copy.csv", "", AE_IFREG, "fabric.yaml", true});
+  expect_refused(make_archive(items, Kind::tar_gz), 422, "copy.csv: a hard link");
+  items.back() = {"tty.csv", "", AE_IFCHR, "", false};
+  expect_refused(make_archive(items, Kind::tar_gz), 422, "tty.csv: a device");
+}
+
+TEST(ArchiveUpload, AZipBombStopsAtTheUnpackedLimit) {
+  std::vector<Item> items = record_items("");
+  items.push_back(file("stretch_bias.csv", std::string(20u << 20, '0')));  // 20 MiB of zeros, ~20 kB zipped
+  const std::string bomb = make_archive(items, Kind::zip);
+  ASSERT_LT(bomb.size(), 200u << 10);
+  UploadLimits limits;
+  limits.max_unpacked_bytes = 4u << 20;
+  expect_refused(bomb, 413, "more than 4194304 bytes unpacked", limits);
+  limits = {};
+  limits.max_file_bytes = 1u << 20;
+  expect_refused(bomb, 413, "stretch_bias.csv: larger than 1048576 bytes", limits);
+}
+
+TEST(ArchiveUpload, CountAndSizeLimitsHold) {
+  std::vector<Item> items = record_items("");
+  for (int i = 0; i < 12; ++i) items.push_back(file("extra_" + std::to_string(i) + ".txt", "x"));
+  UploadLimits limits;
+  limits.max_files = 10;
+  expect_refused(make_archive(items, Kind::tar_gz), 413, "more than 10 files", limits);
+  limits = {};
+  limits.max_archive_bytes = 100;
+  expect_refused(make_archive(record_items(""), Kind::zip), 413, "the upload is larger than 100 bytes", limits);
+}
+
+TEST(ArchiveUpload, WhatIsNotAnArchiveOrNotARecordsFileIsRefused) {
+  expect_refused("fabric: {id: x}\n", 415, "not a .zip or .tar.gz archive");
+  expect_refused(std::string("\x89PNG\r\n\x1a\n", 8) + std::string(200, '\x01'), 415, "not a .zip or .tar.gz archive");
+  expect_refused("", 415, "not a .zip or .tar.gz archive");
+  std::vector<Item> items = record_items("");
+  items.push_back(file("setup.exe", "MZ"));
+  expect_refused(make_archive(items, Kind::zip), 422, "setup.exe: not a kind of file a fabric record holds");
+  expect_refused(make_archive({folder("empty/")}, Kind::zip), 422, "the archive holds no files");
+  // Damaged archives: each kind cut in half.
+  for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
+    const std::string whole = make_archive(record_items(""), kind);
+    expect_refused(whole.substr(0, whole.size() / 2), 422, "damaged archive");
+  }
+}
+
+TEST(ArchiveUpload, AnExistingFolderIsNeverReplaced) {
+  ScratchDir dir("upload_exists");
+  fs::create_directories(dir / "fabric");
+  yarnfit::testing::write_file(dir / "fabric" / "fabric.yaml", "mine\n");
+  const UnpackedUpload r = unpack_upload(make_archive(record_items(""), Kind::zip), dir / "fabric");
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(read_file(dir / "fabric" / "fabric.yaml"), "mine\n");
+  EXPECT_EQ(listing(dir.path()).size(), 2u);
+}
+
+TEST(ArchiveUpload, EntryNamesAreJudgedOneByOne) {
+  EXPECT_EQ(entry_name_problem("fabric.yaml", 255), "");
+  EXPECT_EQ(entry_name_problem("swatch/stretch_weft.csv", 255), "");
+  EXPECT_NE(entry_name_problem("..", 255), "");
+  EXPECT_NE(entry_name_problem("a/./b.csv", 255), "");
+  EXPECT_NE(entry_name_problem("a//b.csv", 255), "");
+  EXPECT_NE(entry_name_problem("C:/x.csv", 255), "");
+  EXPECT_NE(entry_name_problem("a\\..\\b.csv", 255), "");
+  EXPECT_NE(entry_name_problem(std::string("a\nb.csv"), 255), "");
+  EXPECT_NE(entry_name_problem(std::string(300, 'a'), 255), "");
+}
+
+}  // namespace
+}  // namespace yarnfit::service
