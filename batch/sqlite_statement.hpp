@@ -28,14 +28,15 @@ sqlite3* open_sqlite(const std::filesystem::path& file, bool read_only, const st
   return db;
 }
 
-// Runs `sql` (several statements); a failed BEGIN… is rolled back.
+// Runs `sql` (several statements); whatever transaction a failure leaves open (a failed BEGIN…
+// or COMMIT) is rolled back, so the connection does not keep the write lock.
 template <class Error>
 void exec_sql(sqlite3* db, const std::filesystem::path& file, const std::string& sql) {
   char* message = nullptr;
   if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
     const std::string why = message ? message : sqlite3_errmsg(db);
     sqlite3_free(message);
-    if (sql.rfind("BEGIN", 0) == 0) sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
+    if (!sqlite3_get_autocommit(db)) sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
     throw Error(file.string() + ": " + why);
   }
 }
@@ -110,7 +111,7 @@ class SqliteStatement {
     throw Error(m_file.string() + ": " + what + ": " + sqlite3_errmsg(m_db));
   }
   sqlite3* m_db;
-  const std::filesystem::path& m_file;
+  std::filesystem::path m_file;
   sqlite3_stmt* m_stmt = nullptr;
 };
 

@@ -32,8 +32,10 @@ constexpr std::string_view k_prefix = "yft_";
 // `n` bytes from the system's CSPRNG.
 std::string random_bytes(std::size_t n) {
   std::string out(n, '\0');
-  if (RAND_bytes(reinterpret_cast<unsigned char*>(out.data()), static_cast<int>(n)) != 1)
-    throw AccountError("cannot draw random bytes: " + std::string(ERR_reason_error_string(ERR_get_error())));
+  if (RAND_bytes(reinterpret_cast<unsigned char*>(out.data()), static_cast<int>(n)) != 1) {
+    const char* why = ERR_reason_error_string(ERR_get_error());
+    throw AccountError(std::string("cannot draw random bytes: ") + (why ? why : "the random generator failed"));
+  }
   return out;
 }
 
@@ -73,17 +75,21 @@ Account account_from(const Statement& s) {
 }  // namespace
 
 std::string user_name_problem(std::string_view name) {
+  const auto letter_or_digit = [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); };
   if (name.empty() || name.size() > 64) return "a user name has 1 to 64 characters";
-  if (!std::isalnum(static_cast<unsigned char>(name.front()))) return "a user name starts with a letter or a digit";
-  for (const unsigned char c : name)
-    if (!(std::islower(c) || std::isdigit(c) || c == '.' || c == '_' || c == '-'))
-      return "a user name holds a-z, 0-9, '.', '_' and '-' only";
+  if (!letter_or_digit(name.front())) return "a user name starts with a letter a-z or a digit";
+  for (const char c : name)
+    if (!letter_or_digit(c) && c != '.' && c != '_' && c != '-') return "a user name holds a-z, 0-9, '.', '_' and '-' only";
   return "";
 }
 
 Accounts::Accounts(const std::filesystem::path& file) : m_file(file) {
   m_db = batch::open_sqlite<AccountError>(file, false, "the accounts");
   try {
+    // Only the service's user reads it (SQLite gives its -wal and -shm files the same mode).
+    std::error_code ec;
+    std::filesystem::permissions(file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write,
+                                 std::filesystem::perm_options::replace, ec);
     batch::exec_sql<AccountError>(m_db, m_file, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;");
     batch::exec_sql<AccountError>(m_db, m_file, std::string("BEGIN IMMEDIATE;") + k_schema + "COMMIT;");
   } catch (...) {
@@ -107,7 +113,7 @@ IssuedToken Accounts::add_user(const std::string& name, bool admin) {
   IssuedToken issued;
   batch::sql_transaction<AccountError>(m_db, m_file, [&] {
     if (find(name)) throw AccountError(name + ": a user of that name exists (revoke or give a new token instead)");
-    // A placeholder token id (never a valid one: not hex) until issue() draws the real one.
+    // A placeholder token id (never a valid one: it holds ':') until issue() draws the real one.
     Statement s(m_db, m_file,
                 "INSERT INTO users(name, admin, token_id, secret_sha256, created) VALUES (?1, ?2, ?3, '', ?4)");
     s.bind(1, name).bind(2, long{admin ? 1 : 0}).bind(3, "new:" + name).bind(4, now()).run();

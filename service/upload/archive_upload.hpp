@@ -29,6 +29,8 @@ struct UploadLimits {
   std::uintmax_t max_unpacked_bytes = 64u << 20;  // all files together, unpacked
   std::uintmax_t max_file_bytes = 32u << 20;      // one file, unpacked
   int max_files = 200;
+  int max_entries = 1000;  // every header: files, folders and what is passed over
+  int max_depth = 8;       // folders within folders
   std::size_t max_name_length = 255;  // the whole relative name, in bytes
   std::vector<std::string> extensions = {".yaml", ".yml", ".csv", ".pyp", ".json", ".txt", ".md"};
 };
