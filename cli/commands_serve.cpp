@@ -1,12 +1,17 @@
 // yarnfit serve user add|token|revoke|list …: the fitting service's accounts (issue 35), kept in
 // DATA_DIR/accounts.db by the service library (service/accounts/accounts.hpp). A token is
 // printed once, when it is issued; only its hash is stored.
+#include <pthread.h>
+#include <signal.h>
+
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <thread>
 
 #include "cli/commands.hpp"
 #include "service/accounts/accounts.hpp"
+#include "service/http/fitting_service.hpp"
 
 namespace yarnfit::cli {
 
@@ -48,11 +53,69 @@ int with_accounts(const std::string& data_dir, Action action) {
   return k_exit_invalid_input;
 }
 
+struct ServeArgs {
+  std::string data_dir;
+  std::string listen = "127.0.0.1:8080";
+};
+
+// Serves DATA_DIR until SIGINT or SIGTERM (taken by a thread that waits for them, then stops
+// the server: no work in a signal handler).
+int run_serve(const ServeArgs& a) {
+  const auto colon = a.listen.rfind(':');
+  service::ServiceOptions o;
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument("no port");
+    o.host = a.listen.substr(0, colon);
+    o.port = std::stoi(a.listen.substr(colon + 1));
+  } catch (const std::exception&) {
+    std::cerr << "serve: --listen " << a.listen << ": expected HOST:PORT\n";
+    return k_exit_invalid_input;
+  }
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by the server's threads
+  try {
+    service::FittingService server(a.data_dir, o);
+    const int port = server.bind();
+    std::cout << "yarnfit serve: " << a.data_dir << " on http://" << o.host << ":" << port
+              << "/ (GET /healthz; the API under /api/v1 with 'Authorization: Bearer <token>'); Ctrl-C stops\n"
+              << std::flush;
+    std::thread stopper([&server, &signals] {
+      int received = 0;
+      sigwait(&signals, &received);
+      server.stop();
+    });
+    server.run();
+    pthread_kill(stopper.native_handle(), SIGTERM);  // the server stopped first: release the waiter
+    stopper.join();
+  } catch (const std::exception& e) {
+    std::cerr << "serve: " << e.what() << "\n";
+    return k_exit_internal;
+  }
+  return k_exit_ok;
+}
+
 }  // namespace
 
 void add_serve_commands(CLI::App& app, int& exit_code) {
-  auto* serve = app.add_subcommand("serve", "The fitting service: its accounts (`serve user …`)");
-  serve->require_subcommand(1);
+  auto* serve = app.add_subcommand(
+      "serve", "The fitting service: `serve DATA_DIR [--listen HOST:PORT]` serves the API (docs/service.md); "
+               "`serve user …` manages its accounts");
+  auto serve_args = std::make_shared<ServeArgs>();
+  serve->add_option("DATA_DIR", serve_args->data_dir, "The service's data folder (accounts, fabrics)");
+  serve->add_option("--listen", serve_args->listen, "Address to listen on")->capture_default_str();
+  serve->require_subcommand(0, 1);
+  serve->final_callback([serve, serve_args, &exit_code] {
+    if (!serve->get_subcommands().empty()) return;
+    if (serve_args->data_dir.empty()) {
+      std::cerr << "serve: DATA_DIR is required (or a subcommand: serve user …)\n";
+      exit_code = k_exit_invalid_input;
+      return;
+    }
+    exit_code = run_serve(*serve_args);
+  });
   auto* user = serve->add_subcommand("user", "Users of the service and their API tokens (DATA_DIR/accounts.db)");
   user->require_subcommand(1);
   auto args = std::make_shared<UserArgs>();

@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libnlopt-cxx-dev libceres-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev sqlite3 libssl-dev libarchive-dev
+  libsqlite3-dev sqlite3 libssl-dev libarchive-dev libcpp-httplib-dev
   libopenmpi-dev openmpi-bin
   chromium
   python3

@@ -5,9 +5,6 @@
 // and leaves nothing behind, beside the folder or outside it.
 #include <gtest/gtest.h>
 
-#include <archive.h>
-#include <archive_entry.h>
-
 #include <algorithm>
 #include <map>
 #include <set>
@@ -17,6 +14,7 @@
 #include "tests/test_support.hpp"
 
 #include "service/upload/archive_upload.hpp"
+#include "tests/service/test_archives.hpp"
 
 namespace yarnfit::service {
 namespace {
@@ -24,57 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using yarnfit::testing::read_file;
 using yarnfit::testing::ScratchDir;
-
-enum class Kind { zip, tar_gz };
-
-struct Item {
-  std::string name;
-  std::string data;
-  unsigned type = AE_IFREG;
-  std::string link = {};  // symbolic or hard link target
-  bool hard = false;
-};
-
-Item file(const std::string& name, const std::string& data) { return {name, data, AE_IFREG, "", false}; }
-Item folder(const std::string& name) { return {name, "", AE_IFDIR, "", false}; }
-
-la_ssize_t append(archive*, void* out, const void* buffer, size_t size) {
-  static_cast<std::string*>(out)->append(static_cast<const char*>(buffer), size);
-  return static_cast<la_ssize_t>(size);
-}
-
-// An archive of `items` written by libarchive, as a client would send it.
-std::string make_archive(const std::vector<Item>& items, Kind kind) {
-  std::string out;
-  archive* a = archive_write_new();
-  if (kind == Kind::zip) {
-    archive_write_set_format_zip(a);
-  } else {
-    archive_write_set_format_pax_restricted(a);
-    archive_write_add_filter_gzip(a);
-  }
-  archive_write_set_bytes_in_last_block(a, 1);  // no padding after the archive, as zip and tar -z write
-  archive_write_open(a, &out, nullptr, append, nullptr);
-  for (const auto& item : items) {
-    archive_entry* e = archive_entry_new();
-    archive_entry_set_pathname(e, item.name.c_str());
-    archive_entry_set_filetype(e, item.type);
-    archive_entry_set_perm(e, 0644);
-    if (!item.link.empty()) {
-      if (item.hard) archive_entry_set_hardlink(e, item.link.c_str());
-      else archive_entry_set_symlink(e, item.link.c_str());
-    }
-    if (item.type == AE_IFCHR) archive_entry_set_rdev(e, 0x0103);
-    archive_entry_set_size(e, item.type == AE_IFREG && !item.hard ? static_cast<la_int64_t>(item.data.size()) : 0);
-    // A warning: a name the C locale cannot translate (written as its bytes).
-    EXPECT_GE(archive_write_header(a, e), ARCHIVE_WARN) << item.name << ": " << archive_error_string(a);
-    if (item.type == AE_IFREG && !item.data.empty()) archive_write_data(a, item.data.data(), item.data.size());
-    archive_entry_free(e);
-  }
-  archive_write_close(a);
-  archive_write_free(a);
-  return out;
-}
+using namespace yarnfit::testing::archives;
 
 const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
 

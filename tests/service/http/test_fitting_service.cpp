@@ -1,0 +1,131 @@
+// The fitting service's HTTP API (service/http/fitting_service.hpp), started on an ephemeral
+// loopback port and driven by an HTTP client: health without a token, every other route only
+// with a valid one, uploads accepted whole or refused with the record's problems, and one user's
+// fabrics invisible to another (404, as a missing one) but visible to an admin.
+#include <gtest/gtest.h>
+
+#include <httplib.h>
+
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/service/test_archives.hpp"
+#include "tests/test_support.hpp"
+
+#include "service/accounts/accounts.hpp"
+#include "service/http/fitting_service.hpp"
+
+namespace yarnfit::service {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using yarnfit::testing::read_file;
+using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing::archives;
+
+const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
+
+std::string zipped_record(const std::string& yaml_override = "") {
+  std::vector<Item> items;
+  for (const auto& e : fs::directory_iterator(k_record)) {
+    const std::string name = e.path().filename().string();
+    items.push_back(file("swatch/" + name, name == "fabric.yaml" && !yaml_override.empty() ? yaml_override : read_file(e.path())));
+  }
+  return make_archive(items, Kind::zip);
+}
+
+// A service on 127.0.0.1:<any port> over a fresh data folder with users ana, bob and an admin.
+class Served : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    {
+      Accounts accounts(m_dir / "accounts.db");
+      m_ana = accounts.add_user("ana", false).token;
+      m_bob = accounts.add_user("bob", false).token;
+      m_admin = accounts.add_user("lab", true).token;
+    }
+    ServiceOptions o;
+    o.port = 0;
+    m_service = std::make_unique<FittingService>(m_dir.path(), o);
+    m_port = m_service->bind();
+    m_thread = std::thread([this] { m_service->run(); });
+  }
+  void TearDown() override {
+    m_service->stop();
+    m_thread.join();
+  }
+  httplib::Client client(const std::string& token = "") const {
+    httplib::Client c("127.0.0.1", m_port);
+    if (!token.empty()) c.set_bearer_token_auth(token.c_str());
+    return c;
+  }
+
+  ScratchDir m_dir{"served"};
+  std::string m_ana, m_bob, m_admin;
+  std::unique_ptr<FittingService> m_service;
+  int m_port = 0;
+  std::thread m_thread;
+};
+
+TEST_F(Served, HealthNeedsNoTokenAndEverythingElseAValidOne) {
+  auto health = client().Get("/healthz");
+  ASSERT_TRUE(health);
+  EXPECT_EQ(health->status, 200);
+  EXPECT_EQ(health->body, "ok\n");
+  EXPECT_EQ(client().Get("/api/v1/fabrics")->status, 401);
+  EXPECT_EQ(client("yft_0000000000000000_" + std::string(43, 'A')).Get("/api/v1/fabrics")->status, 401);
+  std::string wrong = m_ana;
+  wrong.back() = wrong.back() == 'A' ? 'B' : 'A';
+  const auto refused = client(wrong).Get("/api/v1/fabrics");
+  EXPECT_EQ(refused->status, 401);
+  EXPECT_NE(json::parse(refused->body)["error"].get<std::string>().find("Bearer"), std::string::npos);
+  EXPECT_EQ(client(m_ana).Get("/api/v1/fabrics")->status, 200);
+  Accounts(m_dir / "accounts.db").revoke("ana");
+  EXPECT_EQ(client(m_ana).Get("/api/v1/fabrics")->status, 401);
+  EXPECT_EQ(client(m_ana).Get("/no/such/route")->status, 404);
+}
+
+TEST_F(Served, AnUploadIsAcceptedWholeAndSeenOnlyByItsOwnerAndAdmins) {
+  const auto created = client(m_ana).Post("/api/v1/fabrics", zipped_record(), "application/zip");
+  ASSERT_TRUE(created);
+  ASSERT_EQ(created->status, 201) << created->body;
+  const json body = json::parse(created->body);
+  const std::string id = body["id"];
+  EXPECT_EQ(read_file(m_dir / "fabrics" / "ana" / id / "fabric.yaml"), read_file(k_record / "fabric.yaml"));
+
+  const json mine = json::parse(client(m_ana).Get("/api/v1/fabrics")->body);
+  ASSERT_EQ(mine["fabrics"].size(), 1u);
+  EXPECT_EQ(mine["fabrics"][0]["id"], id);
+  EXPECT_EQ(json::parse(client(m_bob).Get("/api/v1/fabrics")->body)["fabrics"].size(), 0u);
+  EXPECT_EQ(client(m_bob).Get("/api/v1/fabrics/" + id)->status, 404);       // another's: as missing
+  EXPECT_EQ(client(m_ana).Get("/api/v1/fabrics/no_such")->status, 404);
+  EXPECT_EQ(client(m_admin).Get("/api/v1/fabrics/" + id)->status, 200);     // an admin sees all
+  const json shown = json::parse(client(m_ana).Get("/api/v1/fabrics/" + id)->body);
+  EXPECT_EQ(shown["owner"], "ana");
+  EXPECT_EQ(shown["files"].size(), body["files"].size());
+  // The same record again: its id is taken.
+  EXPECT_EQ(client(m_ana).Post("/api/v1/fabrics", zipped_record(), "application/zip")->status, 409);
+  EXPECT_TRUE(fs::is_empty(m_dir / "uploads"));
+}
+
+TEST_F(Served, RefusedUploadsSayWhyAndLeaveNothing) {
+  const auto invalid = client(m_ana).Post("/api/v1/fabrics", zipped_record("id: broken\n"), "application/zip");
+  ASSERT_EQ(invalid->status, 422) << invalid->body;
+  const json problems = json::parse(invalid->body)["problems"];
+  ASSERT_FALSE(problems.empty());
+  EXPECT_EQ(problems[0].get<std::string>().rfind("fabric.yaml:", 0), 0u) << problems.dump();
+
+  std::vector<Item> evil{file("../evil.csv", "a\n")};
+  const auto traversal = client(m_ana).Post("/api/v1/fabrics", make_archive(evil, Kind::tar_gz), "application/gzip");
+  EXPECT_EQ(traversal->status, 422);
+  EXPECT_EQ(client(m_ana).Post("/api/v1/fabrics", "not an archive", "text/plain")->status, 415);
+  EXPECT_EQ(client(m_ana).Post("/api/v1/fabrics", "{]", "application/json")->status, 415);
+  EXPECT_TRUE(fs::is_empty(m_dir / "uploads"));
+  EXPECT_FALSE(fs::exists(m_dir / "fabrics" / "ana"));
+  EXPECT_FALSE(fs::exists(m_dir.path().parent_path() / "evil.csv"));
+}
+
+}  // namespace
+}  // namespace yarnfit::service
