@@ -14,6 +14,7 @@
 #include "pipeline/plan.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
+#include "results/read_if_present.hpp"
 #include "results/shell_fit_file.hpp"
 #include "results/yarn_fit_file.hpp"
 
@@ -87,19 +88,9 @@ ResultRow ledger_row(const std::string& fabric_id, const std::string& stage, con
   return row;
 }
 
-// The file as its type; none when it is missing or unreadable (the row is left out).
-template <class File, class Read>
-std::optional<File> read_or_none(const fs::path& file, Read read) {
-  if (!fs::exists(file)) return std::nullopt;
-  try {
-    return read(file);
-  } catch (const std::runtime_error&) {
-    return std::nullopt;
-  }
-}
-
+// A stage's row; none when its file is missing or unreadable (the row is left out).
 std::optional<ResultRow> shell_row(const fs::path& file, const std::string& fabric_id, const std::string& family) {
-  const auto shell = read_or_none<results::ShellFitFile>(file, results::read_shell_fit_file);
+  const auto shell = results::read_if_present<results::ShellFitFile>(file, results::read_shell_fit_file);
   if (!shell) return std::nullopt;
   StageFigures f{results::params_json(shell->params).dump(), shell->converged ? 1.0 : 0.0, k_nan, shell->timing_s,
                  results::named_errors(shell->errors), {}};
@@ -109,7 +100,7 @@ std::optional<ResultRow> shell_row(const fs::path& file, const std::string& fabr
 }
 
 std::optional<ResultRow> yarn_row(const fs::path& file, const std::string& fabric_id, const std::string& family) {
-  const auto yarn = read_or_none<results::YarnFitFile>(file, results::read_yarn_fit_file);
+  const auto yarn = results::read_if_present<results::YarnFitFile>(file, results::read_yarn_fit_file);
   if (!yarn) return std::nullopt;
   const StageFigures f{json(yarn->params).dump(), yarn->ok ? 1.0 : 0.0, static_cast<double>(yarn->evaluations),
                        yarn->timing_s.total, results::named_errors(yarn->errors), yarn->params};

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "results/read_if_present.hpp"
+
 namespace yarnfit::reports {
 
 namespace fs = std::filesystem;
@@ -12,13 +14,10 @@ namespace {
 // The file as its type, when it exists; a problem line when it cannot be read.
 template <class File, class Read>
 std::optional<File> read_result(const fs::path& file, Read read, std::vector<std::string>& problems) {
-  if (!fs::exists(file)) return std::nullopt;
-  try {
-    return read(file);
-  } catch (const std::runtime_error& e) {
-    problems.push_back(std::string(e.what()) + " (left out of the report)");
-    return std::nullopt;
-  }
+  std::string why;
+  auto out = results::read_if_present<File>(file, read, &why);
+  if (!why.empty()) problems.push_back(why + " (left out of the report)");
+  return out;
 }
 
 }  // namespace
