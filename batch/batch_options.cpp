@@ -11,8 +11,8 @@ namespace fs = std::filesystem;
 db::Problems BatchOptions::problems() const {
   db::Problems found;
   const auto say = [&found](const char* field, const std::string& message) { found.add("", 0, field, message); };
-  if (database.empty()) say("database", "no database folder given");
-  else if (!fs::is_directory(database)) say("database", database.string() + ": not a folder");
+  if (database.empty() && !feed) say("database", "no database folder given");
+  else if (!database.empty() && !fs::is_directory(database)) say("database", database.string() + ": not a folder");
   if (out.empty()) say("out", "no output folder given");
   else if (fs::exists(this->out) && !fs::is_directory(this->out)) say("out", this->out.string() + ": exists and is not a folder");
   if (jobs < 1 || jobs > 256) say("jobs", "must be 1-256 (got " + std::to_string(jobs) + ")");

@@ -34,8 +34,30 @@ struct BatchProgress {
 };
 using BatchProgressFn = std::function<void(const BatchProgress&)>;
 
+// A fabric given by its folder rather than found in a database (the fitting service's jobs):
+// its ledger key (also its folder under DIR/fabrics/, so it may hold a '/'), its record, and
+// its own fit options and report.
+struct BatchFabric {
+  std::string key;
+  std::filesystem::path folder;
+  pipeline::PipelineOptions fit;
+  bool report = false;  // the one-fabric report in its output folder (report/)
+};
+
+// Work that reaches a batch while it runs (the fitting service). With a feed the batch does
+// not end when its queue is empty: it asks `take` for new fabrics about four times a second,
+// stops the ones `cancelled` names (queued or running: recorded as failed, "cancelled"), and
+// ends when `stop` says so (running jobs back to queued, as on SIGINT). Called on the thread
+// that runs the batch.
+struct BatchFeed {
+  std::function<std::vector<BatchFabric>()> take;
+  std::function<std::vector<std::string>()> cancelled;
+  std::function<bool()> stop;
+  [[nodiscard]] explicit operator bool() const { return static_cast<bool>(take); }
+};
+
 struct BatchOptions {
-  std::filesystem::path database;
+  std::filesystem::path database;  // may be empty when a feed gives the fabrics
   std::filesystem::path out;
   int jobs = 1;             // fabrics fitted at once (local mode)
   int threads_per_job = 2;  // OpenMP threads of each fabric's fit
@@ -48,6 +70,7 @@ struct BatchOptions {
   // (on this host a dead pid is enough).
   double stale_after = 60.0;
   BatchProgressFn progress;
+  BatchFeed feed;
 
   // Every invalid field ("jobs", "threads_per_job", "fit.…"); empty when usable.
   [[nodiscard]] db::Problems problems() const;

@@ -14,6 +14,7 @@
 
 #include "batch/fabric_hash.hpp"
 #include "fabrics_db/records/database.hpp"
+#include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 
 namespace yarnfit::batch {
@@ -93,6 +94,7 @@ BatchRun::BatchRun(const BatchOptions& options)
 }
 
 void BatchRun::plan() {
+  if (m_options.database.empty()) return;  // a feed brings the fabrics
   const db::DatabaseLoad database = db::load_database(m_options.database);
   const std::vector<std::string> keys = fabric_keys(database);
   const std::set<std::string> only(m_options.only.begin(), m_options.only.end());
@@ -114,82 +116,108 @@ void BatchRun::plan() {
                               (m_options.family.empty() ? std::string() : " of family " + m_options.family) +
                               (database.problems.empty() ? std::string() : " (" + problems_text(database.problems) + ")"));
   if (!argument_problems.empty()) throw BatchError(argument_problems.to_string());
+  for (const std::size_t i : selected) plan_fabric(keys[i], database.fabrics[i], m_options.fit, false, false);
+}
 
-  const nlohmann::json options_json = fit_options_json(m_options.fit);
-  const std::string options_text = options_json.dump();
-  const std::string here = host_name();
-  const double now = unix_now();
+void BatchRun::add(const BatchFabric& fabric) {
+  if (m_running.count(fabric.key)) return;  // asked again while it runs: this run goes on
+  m_queue.erase(std::remove_if(m_queue.begin(), m_queue.end(), [&](const JobSpec& q) { return q.fabric_id == fabric.key; }),
+                m_queue.end());
+  plan_fabric(fabric.key, db::load_fabric(fabric.folder), fabric.fit, fabric.report, true);
+  tick(true);
+}
+
+void BatchRun::plan_fabric(const std::string& key, const db::FabricLoad& load, const pipeline::PipelineOptions& fit,
+                           bool report, bool own_options) {
+  const nlohmann::json options_json = fit_options_json(fit);
   // Checked as the jobs will run them: with the batch's folder for generated tiles.
-  pipeline::PipelineOptions job_options = m_options.fit;
+  pipeline::PipelineOptions job_options = fit;
   job_options.tile_cache = generated_tiles_folder(m_options.out);
-  for (const std::size_t i : selected) {
-    const db::FabricLoad& load = database.fabrics[i];
-    const std::string& key = keys[i];
+  const double now = unix_now();
+  if (std::find(m_selected.begin(), m_selected.end(), key) == m_selected.end()) {
     m_selected.push_back(key);
     ++m_summary.selected;
-    db::Problems problems = load.problems;
-    if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, job_options));
-    JobRow row;
-    row.fabric_id = key;
-    row.family = load.family;
-    row.folder = load.folder.string();
-    row.hash = fabric_hash(load, options_json);
-    row.options = options_text;
-    const std::optional<JobRow> old = m_ledger.job(key);
-    if (old) row.attempts = old->attempts;
-    const JobSpec spec{key, load.family, load.folder, true};
-
-    if (!problems.empty()) {
-      ++m_summary.invalid;
-      row.status = "failed";
-      row.error = problems_text(problems);
-      row.ended = now;
-      if (!(old && old->status == "failed" && old->hash == row.hash && old->error == row.error))
-        m_ledger.put_job(row, "invalid", row.error, now);
-      continue;
-    }
-    if (old && old->hash == row.hash) {
-      if (old->status == "done") {
-        ++m_summary.skipped_done;
-        continue;
-      }
-      if (old->status == "failed" && !m_options.retry_failed) {
-        ++m_summary.skipped_failed;
-        continue;
-      }
-      if (old->status == "running") {
-        const double age = now - old->heartbeat;
-        // On this host the lock we hold says that the batch which ran the job is gone: its
-        // process is dead, or a child about to die with it (PR_SET_PDEATHSIG), which is given
-        // a moment so that it does not write beside the job's new run.
-        const bool here_too = old->host == here;
-        if (here_too) wait_for_exit(old->pid, 5.0);
-        const bool stale = here_too || age > m_options.stale_after;
-        if (!stale) {
-          m_summary.running_elsewhere.push_back(key + " (pid " + std::to_string(old->pid) + " on " + old->host +
-                                                ", heartbeat " + db::format_g(age, 3) + " s ago)");
-          continue;
-        }
-        ++m_summary.taken_over;
-        row.status = "queued";
-        m_ledger.put_job(row, "taken_over",
-                         "from pid " + std::to_string(old->pid) + " on " + old->host + " (heartbeat " +
-                             db::format_g(age, 3) + " s ago, stage " + old->stage + ")",
-                         now);
-      } else if (old->status == "failed") {
-        row.status = "queued";
-        m_ledger.put_job(row, "retry", old->error, now);
-      }
-      m_queue.push_back(spec);  // queued: resumed from its checkpoint if it has one
-      continue;
-    }
-    // New, or changed since its last run: a fresh start, without the old files.
-    std::error_code ec;
-    fs::remove_all(fabric_output_folder(m_options.out, key), ec);
-    row.status = "queued";
-    m_ledger.put_job(row, old ? "changed" : "queued", old ? "hash " + old->hash + " -> " + row.hash : row.hash, now);
-    m_queue.push_back({key, load.family, load.folder, false});
   }
+  db::Problems problems = load.problems;
+  if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, job_options));
+  JobRow row;
+  row.fabric_id = key;
+  row.family = load.family;
+  row.folder = load.folder.string();
+  row.hash = fabric_hash(load, options_json);
+  row.options = options_json.dump();
+  const std::optional<JobRow> old = m_ledger.job(key);
+  if (old) row.attempts = old->attempts;
+  JobSpec spec{key, load.family, load.folder, true, std::nullopt, report};
+  if (own_options) spec.fit = fit;
+
+  if (!problems.empty()) {
+    ++m_summary.invalid;
+    row.status = "failed";
+    row.error = problems_text(problems);
+    row.ended = now;
+    if (!(old && old->status == "failed" && old->hash == row.hash && old->error == row.error))
+      m_ledger.put_job(row, "invalid", row.error, now);
+    return;
+  }
+  if (old && old->hash == row.hash) {
+    if (old->status == "done") {
+      ++m_summary.skipped_done;
+      return;
+    }
+    if (old->status == "failed" && !m_options.retry_failed && !own_options) {
+      ++m_summary.skipped_failed;
+      return;
+    }
+    if (old->status == "running") {
+      const double age = now - old->heartbeat;
+      // On this host the lock we hold says that the batch which ran the job is gone: its
+      // process is dead, or a child about to die with it (PR_SET_PDEATHSIG), which is given
+      // a moment so that it does not write beside the job's new run.
+      const bool here_too = old->host == host_name();
+      if (here_too) wait_for_exit(old->pid, 5.0);
+      const bool stale = here_too || age > m_options.stale_after;
+      if (!stale) {
+        m_summary.running_elsewhere.push_back(key + " (pid " + std::to_string(old->pid) + " on " + old->host +
+                                              ", heartbeat " + db::format_g(age, 3) + " s ago)");
+        return;
+      }
+      ++m_summary.taken_over;
+      row.status = "queued";
+      m_ledger.put_job(row, "taken_over",
+                       "from pid " + std::to_string(old->pid) + " on " + old->host + " (heartbeat " +
+                           db::format_g(age, 3) + " s ago, stage " + old->stage + ")",
+                       now);
+    } else if (old->status == "failed") {
+      row.status = "queued";
+      m_ledger.put_job(row, "retry", old->error, now);
+    }
+    m_queue.push_back(spec);  // queued: resumed from its checkpoint if it has one
+    return;
+  }
+  // New, or changed since its last run: a fresh start, without the old files.
+  std::error_code ec;
+  fs::remove_all(fabric_output_folder(m_options.out, key), ec);
+  row.status = "queued";
+  m_ledger.put_job(row, old ? "changed" : "queued", old ? "hash " + old->hash + " -> " + row.hash : row.hash, now);
+  spec.resume = false;
+  m_queue.push_back(spec);
+}
+
+void BatchRun::cancel(const std::string& key, const std::string& why) {
+  const auto queued = std::find_if(m_queue.begin(), m_queue.end(), [&](const JobSpec& q) { return q.fabric_id == key; });
+  if (queued != m_queue.end()) {
+    m_queue.erase(queued);
+    if (std::optional<JobRow> row = m_ledger.job(key)) {
+      row->status = "failed";
+      row->error = why;
+      row->ended = unix_now();
+      m_ledger.put_job(*row, "cancelled", why, row->ended);
+    }
+  } else if (m_running.count(key)) {
+    finished(key, {false, why});
+  }
+  tick(true);
 }
 
 std::vector<std::string> BatchRun::running_ids() const {

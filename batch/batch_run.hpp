@@ -45,6 +45,13 @@ class BatchRun {
   [[nodiscard]] std::size_t running_count() const { return m_running.size(); }
   [[nodiscard]] std::vector<std::string> running_ids() const;
 
+  // A fabric the feed brought: planned as the database's are (run, resumed, or left done), but
+  // a failed one runs again (it was asked for anew). One already running goes on.
+  void add(const BatchFabric& fabric);
+  // Ends a queued or running job as failed with `why` (the caller has stopped its process).
+  void cancel(const std::string& key, const std::string& why);
+  [[nodiscard]] bool is_running(const std::string& key) const { return m_running.count(key) > 0; }
+
   // The next queued job (there must be one).
   JobSpec next();
   // The job runs now in process `pid` on `host`.
@@ -68,6 +75,8 @@ class BatchRun {
     std::chrono::steady_clock::time_point start;
   };
   void plan();
+  void plan_fabric(const std::string& key, const db::FabricLoad& load, const pipeline::PipelineOptions& fit,
+                   bool report, bool own_options);
 
   BatchOptions m_options;
   std::unique_ptr<DirectoryLock> m_lock;

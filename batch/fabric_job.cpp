@@ -35,7 +35,8 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   pipeline::FitPlan plan;
   plan.fabric = spec.folder;
   plan.out = fabric_output_folder(options.out, spec.fabric_id);
-  plan.options = options.fit;
+  plan.options = spec.fit ? *spec.fit : options.fit;
+  plan.report = spec.report;
   plan.overwrite = true;  // the ledger decides what runs again
   fs::create_directories(plan.out);
   pipeline::PipelineOptions& o = plan.options;
@@ -145,7 +146,8 @@ std::string to_message(const JobSpec& spec) {
 JobSpec job_spec_from_message(const std::string& message) {
   const json j = json::parse(message, nullptr, false);
   if (j.is_discarded() || !j.is_object()) throw std::runtime_error("bad job message: " + message);
-  return {j.value("fabric_id", ""), j.value("family", ""), j.value("folder", ""), j.value("resume", false)};
+  return {j.value("fabric_id", ""), j.value("family", ""), j.value("folder", ""), j.value("resume", false), std::nullopt,
+          false};
 }
 
 std::string to_message(const JobOutcome& outcome) { return json{{"ok", outcome.ok}, {"error", outcome.error}}.dump(); }

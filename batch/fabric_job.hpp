@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,10 @@ struct JobSpec {
   std::string family;
   std::filesystem::path folder;  // the record
   bool resume = false;           // continue from the fabric's swarm checkpoint if there is one
+  // A fabric's own options (BatchFabric); the batch's when empty. Not part of the message: an
+  // MPI worker runs with the batch's options.
+  std::optional<pipeline::PipelineOptions> fit;
+  bool report = false;
 };
 
 struct JobOutcome {

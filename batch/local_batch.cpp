@@ -8,10 +8,12 @@
 // writes the ledger), so each child starts OpenMP afresh.
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -74,6 +76,9 @@ void write_all(int fd, const std::string& text) {
   ::close(lock_fd);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
+  sigset_t none;  // a parent that takes signals with sigwait (the service) has them blocked
+  sigemptyset(&none);
+  ::pthread_sigmask(SIG_SETMASK, &none, nullptr);
   std::mutex mutex;
   StageThrottle throttle;
   const StageFn stage = [&](const std::string& s) {
@@ -125,15 +130,42 @@ std::string exit_description(int status) {
   return "the fit process exited with status " + std::to_string(WEXITSTATUS(status)) + " without a result";
 }
 
+// Stops a child and waits for it.
+void stop_child(Child& c) {
+  ::kill(c.pid, SIGKILL);
+  int status = 0;
+  ::waitpid(c.pid, &status, 0);
+  ::close(c.fd);
+}
+
+// What the feed asks for between two looks at the children: new fabrics and cancellations.
+void follow_feed(BatchRun& run, std::vector<Child>& children) {
+  const BatchFeed& feed = run.options().feed;
+  for (const BatchFabric& f : feed.take()) run.add(f);
+  if (!feed.cancelled) return;
+  for (const std::string& key : feed.cancelled()) {
+    const auto c = std::find_if(children.begin(), children.end(), [&](const Child& x) { return x.fabric_id == key; });
+    if (c != children.end()) {
+      stop_child(*c);
+      children.erase(c);
+    }
+    run.cancel(key, "cancelled by its owner");
+  }
+}
+
 }  // namespace
 
 BatchSummary run_batch(const BatchOptions& options) {
   BatchRun run(options);
   const StopSignals signals;
+  const BatchFeed& feed = run.options().feed;
+  const auto stopping = [&feed] { return g_stop_signal != 0 || (feed.stop && feed.stop()); };
   const std::string host = host_name();
   std::vector<Child> children;
   run.tick(true);
-  while (g_stop_signal == 0) {
+  bool stopped = false;
+  while (!(stopped = stopping())) {
+    if (feed) follow_feed(run, children);
     while (g_stop_signal == 0 && run.has_queued() && static_cast<int>(children.size()) < run.options().jobs) {
       const JobSpec spec = run.next();
       int fds[2];
@@ -153,7 +185,7 @@ BatchSummary run_batch(const BatchOptions& options) {
       children.push_back({pid, fds[0], spec.fabric_id, "", std::nullopt});
       run.started(spec, host, pid);
     }
-    if (children.empty()) break;
+    if (children.empty() && !feed) break;
 
     std::vector<pollfd> polls;
     for (const auto& c : children) polls.push_back({c.fd, POLLIN, 0});
@@ -177,12 +209,8 @@ BatchSummary run_batch(const BatchOptions& options) {
     }
     run.tick();
   }
-  const bool stopped = g_stop_signal != 0;
   for (auto& c : children) {
-    ::kill(c.pid, SIGKILL);
-    int status = 0;
-    ::waitpid(c.pid, &status, 0);
-    ::close(c.fd);
+    stop_child(c);
     run.interrupted(c.fabric_id);
   }
   run.tick(true);

@@ -1,6 +1,7 @@
-// yarnfit serve user add|token|revoke|list …: the fitting service's accounts (issue 35), kept in
-// DATA_DIR/accounts.db by the service library (service/accounts/accounts.hpp). A token is
-// printed once, when it is issued; only its hash is stored.
+// yarnfit serve DATA_DIR: the fitting service (service/http/fitting_service.hpp) until SIGINT or
+// SIGTERM; yarnfit serve user add|token|revoke|list …: its accounts, kept in DATA_DIR/accounts.db
+// by the service library (service/accounts/accounts.hpp). A token is printed once, when it is
+// issued; only its hash is stored.
 #include <pthread.h>
 #include <signal.h>
 
@@ -56,6 +57,7 @@ int with_accounts(const std::string& data_dir, Action action) {
 struct ServeArgs {
   std::string data_dir;
   std::string listen = "127.0.0.1:8080";
+  service::FitJobsOptions jobs;
 };
 
 // Serves DATA_DIR until SIGINT or SIGTERM (taken by a thread that waits for them, then stops
@@ -63,6 +65,7 @@ struct ServeArgs {
 int run_serve(const ServeArgs& a) {
   const auto colon = a.listen.rfind(':');
   service::ServiceOptions o;
+  o.jobs = a.jobs;
   try {
     if (colon == std::string::npos) throw std::invalid_argument("no port");
     o.host = a.listen.substr(0, colon);
@@ -101,11 +104,24 @@ int run_serve(const ServeArgs& a) {
 
 void add_serve_commands(CLI::App& app, int& exit_code) {
   auto* serve = app.add_subcommand(
-      "serve", "The fitting service: `serve DATA_DIR [--listen HOST:PORT]` serves the API (docs/service.md); "
+      "serve", "The fitting service: `serve DATA_DIR [--listen HOST:PORT] [--jobs N]` serves the API (docs/service.md); "
                "`serve user …` manages its accounts");
   auto serve_args = std::make_shared<ServeArgs>();
   serve->add_option("DATA_DIR", serve_args->data_dir, "The service's data folder (accounts, fabrics)");
   serve->add_option("--listen", serve_args->listen, "Address to listen on")->capture_default_str();
+  serve->add_option("--jobs", serve_args->jobs.jobs, "Fits run at once, each in its own process")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  serve->add_option("--threads-per-job", serve_args->jobs.threads_per_job, "OpenMP threads of each fit")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  serve->add_option("--active-per-user", serve_args->jobs.active_per_user,
+                    "A user's fits queued or running at once (429 past it)")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  serve->add_option("--queue-length", serve_args->jobs.queue_length, "Fits queued or running for everyone (429 past it)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
   serve->require_subcommand(0, 1);
   serve->final_callback([serve, serve_args, &exit_code] {
     if (!serve->get_subcommands().empty()) return;

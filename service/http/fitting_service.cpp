@@ -2,7 +2,10 @@
 
 #include <httplib.h>
 
+#include <chrono>
 #include <mutex>
+#include <thread>
+#include <type_traits>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -10,7 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "fabrics_db/records/fabric_reader.hpp"
+#include "fabrics_db/text_util.hpp"
 #include "service/accounts/accounts.hpp"
+#include "service/http/page_html.hpp"
+#include "service/http/request_metrics.hpp"
+#include "service/jobs/fit_jobs.hpp"
 
 namespace yarnfit::service {
 
@@ -37,6 +44,12 @@ bool usable_id(const std::string& id) {
   return true;
 }
 
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 std::vector<std::string> files_of(const fs::path& folder) {
   std::vector<std::string> out;
   for (const auto& e : fs::recursive_directory_iterator(folder))
@@ -47,16 +60,27 @@ std::vector<std::string> files_of(const fs::path& folder) {
 
 }  // namespace
 
+// The route a request took, for the metrics: set by the handler's wrapper on the thread that
+// runs it, read by the post-routing handler on the same thread.
+thread_local std::string t_route;
+thread_local std::chrono::steady_clock::time_point t_start;
+
 struct FittingService::Impl {
   fs::path data;
   ServiceOptions options;
   Accounts accounts;
   std::mutex accounts_mutex;  // one SQLite connection, handlers on many threads
+  FitJobs jobs;
+  RequestMetrics metrics;
   httplib::Server http;
+  std::vector<Route> registered;
   int port = 0;
 
   Impl(fs::path data_dir, ServiceOptions o)
-      : data(std::move(data_dir)), options(std::move(o)), accounts((fs::create_directories(data), data / "accounts.db")) {
+      : data(std::move(data_dir)),
+        options(std::move(o)),
+        accounts((fs::create_directories(data), data / "accounts.db")),
+        jobs(data, options.jobs) {
     fs::create_directories(data / "fabrics");
     fs::create_directories(data / "uploads");
     routes();
@@ -83,10 +107,47 @@ struct FittingService::Impl {
     return out;
   }
 
-  void upload(const Account& who, const httplib::Request& req, httplib::Response& res) {
+  // The owner and folder of fabric `id` as `who` may see it: their own first, then (an admin)
+  // anyone's. None for a name that cannot be an id, a missing fabric or another user's.
+  std::optional<std::pair<std::string, fs::path>> fabric(const Account& who, const std::string& id) {
+    if (!usable_id(id)) return std::nullopt;
+    std::optional<std::pair<std::string, fs::path>> found;
+    for (auto& [owner, folder] : visible(who))
+      if (folder.filename() == id && (!found || owner == who.name)) found.emplace(owner, folder);
+    return found;
+  }
+
+  // The upload's body, read after the caller was authenticated (a stranger's 32 MiB are never
+  // read), at most the archive limit and within options.upload_timeout_s; none when it is too
+  // large (413) or came too slowly (408).
+  std::optional<std::string> upload_body(const httplib::Request& req, const httplib::ContentReader& reader,
+                                         httplib::Response& res) {
+    const std::size_t limit = options.upload.max_archive_bytes;
+    const std::string too_large = "the upload is larger than " + std::to_string(limit) + " bytes";
+    res.set_header("Connection", "close");  // on a refusal the rest of the body is not read
+    if (req.get_header_value<uint64_t>("Content-Length") > limit) return refuse(res, 413, too_large), std::nullopt;
+    std::string body;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(options.upload_timeout_s);
+    bool late = false, large = false;
+    reader([&](const char* bytes, std::size_t n) {
+      large = body.size() + n > limit;
+      if (!large) body.append(bytes, n);
+      late = std::chrono::steady_clock::now() > until;
+      return !late && !large;
+    });
+    if (large) return refuse(res, 413, too_large), std::nullopt;
+    if (late) return refuse(res, 408, "the upload did not arrive within " + std::to_string(options.upload_timeout_s) + " s"), std::nullopt;
+    res.headers.erase("Connection");
+    return body;
+  }
+
+  void upload(const Account& who, const httplib::Request& req, const httplib::ContentReader& reader,
+              httplib::Response& res) {
+    const std::optional<std::string> body = upload_body(req, reader, res);
+    if (!body) return;
     std::random_device rd;
     const fs::path staging = data / "uploads" / (who.name + "-" + std::to_string(rd()) + std::to_string(rd()));
-    const UnpackedUpload unpacked = unpack_upload(req.body, staging, options.upload);
+    const UnpackedUpload unpacked = unpack_upload(*body, staging, options.upload);
     if (!unpacked.ok) return refuse(res, unpacked.refusal.status, unpacked.refusal.message);
     std::error_code ec;
     const db::FabricLoad load = db::load_fabric(staging);
@@ -113,38 +174,204 @@ struct FittingService::Impl {
     reply(res, 201, {{"id", load.fabric->id}, {"family", load.fabric->family}, {"files", unpacked.files}});
   }
 
+  void start_fit(const Account& who, const httplib::Request& req, httplib::Response& res) {
+    const auto f = fabric(who, req.matches[1]);
+    if (!f) return refuse(res, 404, "no fabric '" + std::string(req.matches[1]) + "'");
+    const json body = req.body.empty() ? json::object() : json::parse(req.body, nullptr, false);
+    if (body.is_discarded()) return refuse(res, 400, "the body is not JSON");
+    const JobAnswer a = jobs.start(f->first, f->second.filename().string(), f->second, body);
+    reply(res, a.status, a.body);
+  }
+
+  // The job of fabric `id` as `who` may see it, with its owner.
+  std::optional<std::pair<std::string, json>> job(const Account& who, const std::string& id) {
+    const auto f = fabric(who, id);
+    if (!f) return std::nullopt;
+    auto j = jobs.job(f->first, id);
+    if (!j) return std::nullopt;
+    return std::make_pair(f->first, std::move(*j));
+  }
+
+  // text/event-stream: the job's state whenever it changes (an event "job" with the job's JSON),
+  // until it has ended; a comment line every 15 s keeps proxies from closing a quiet stream.
+  void events(const Account& who, const httplib::Request& req, httplib::Response& res) {
+    const std::string id = req.matches[1];
+    const auto j = job(who, id);
+    if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+    const std::string owner = j->first;
+    auto last = std::make_shared<std::string>();
+    auto quiet = std::make_shared<int>(0);
+    res.set_header("Cache-Control", "no-store");
+    res.set_chunked_content_provider("text/event-stream", [this, owner, id, last, quiet](std::size_t, httplib::DataSink& sink) {
+      const auto now = jobs.job(owner, id);
+      if (!now) {
+        sink.done();
+        return true;
+      }
+      const std::string text = now->dump();
+      if (text != *last) {
+        const std::string event = "event: job\ndata: " + text + "\n\n";
+        if (!sink.write(event.data(), event.size())) return false;
+        *last = text;
+        *quiet = 0;
+      } else if (++*quiet % 60 == 0 && !sink.write(": waiting\n\n", 11)) {
+        return false;
+      }
+      const std::string state = (*now)["state"];
+      if (state == "done" || state == "failed" || state == "cancelled") {
+        sink.done();
+        return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      return sink.is_writable();
+    });
+  }
+
+  void result_file(const Account& who, const httplib::Request& req, httplib::Response& res) {
+    const std::string id = req.matches[1], name = req.matches[2];
+    const auto j = job(who, id);
+    if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+    const auto& names = downloadable_files();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      return refuse(res, 404, "no result file '" + name + "' (there are: " + join(names) + ")");
+    serve_file(res, jobs.output_folder(j->first, id) / name, name);
+  }
+
+  void serve_file(httplib::Response& res, const fs::path& file, const std::string& what) {
+    std::string text, why;
+    if (!fs::is_regular_file(file) || !db::read_text_file(file, text, why))
+      return refuse(res, 404, what + " is not there (yet)");
+    const std::string ext = file.extension().string();
+    const char* type = ext == ".json" ? "application/json"
+                       : ext == ".csv" ? "text/csv"
+                       : ext == ".html" ? "text/html; charset=utf-8"
+                                        : "text/plain; charset=utf-8";
+    res.status = 200;
+    res.set_content(text, type);
+  }
+
+  // Registers `handler` for METHOD PATTERN (a regular expression) under `route`, the path as
+  // docs/openapi.yaml writes it and the metrics name it. A handler that takes the caller's
+  // Account is only reached with a valid token (401 otherwise); one without is open to all.
+  template <class Handler>
+  void on(const std::string& method, const std::string& pattern, const std::string& route, Handler handler) {
+    registered.push_back({method, route});
+    using httplib::ContentReader, httplib::Request, httplib::Response;
+    if constexpr (std::is_invocable_v<Handler, const Account&, const Request&, Response&, const ContentReader&>) {
+      // A body read by the handler, after the token was checked.
+      if (method != "POST") throw std::logic_error(route + ": a body is read on POST only");
+      http.Post(pattern, [this, route, handler](const Request& req, Response& res, const ContentReader& reader) {
+        t_route = route;
+        const std::optional<Account> who = caller(req);
+        if (!who) {
+          res.set_header("Connection", "close");  // the body is not read
+          return refuse(res, 401, "a valid 'Authorization: Bearer <token>' header is required");
+        }
+        handler(*who, req, res, reader);
+      });
+      return;
+    } else {
+      const httplib::Server::Handler h = [this, route, handler](const Request& req, Response& res) {
+        t_route = route;
+        if constexpr (std::is_invocable_v<Handler, const Request&, Response&>) {
+          handler(req, res);
+        } else {
+          const std::optional<Account> who = caller(req);
+          if (!who) return refuse(res, 401, "a valid 'Authorization: Bearer <token>' header is required");
+          handler(*who, req, res);
+        }
+      };
+      if (method == "GET") http.Get(pattern, h);
+      else if (method == "POST") http.Post(pattern, h);
+      else if (method == "DELETE") http.Delete(pattern, h);
+      else throw std::logic_error("no method " + method);
+    }
+  }
+
   void routes() {
+    const std::string get = "GET", post = "POST", del = "DELETE";
+    http.new_task_queue = [] { return new httplib::ThreadPool(32); };  // event streams hold a thread each
     http.set_read_timeout(options.read_timeout_s, 0);
     http.set_write_timeout(options.write_timeout_s, 0);
     http.set_payload_max_length(options.upload.max_archive_bytes);
-    http.Get("/healthz", [](const httplib::Request&, httplib::Response& res) { res.set_content("ok\n", "text/plain"); });
-    const auto authed = [this](auto handler) {
-      return [this, handler](const httplib::Request& req, httplib::Response& res) {
-        const std::optional<Account> who = caller(req);
-        if (!who) return refuse(res, 401, "a valid 'Authorization: Bearer <token>' header is required");
-        handler(*who, req, res);
-      };
-    };
-    http.Post("/api/v1/fabrics", authed([this](const Account& who, const httplib::Request& req, httplib::Response& res) {
-                upload(who, req, res);
-              }));
-    http.Get("/api/v1/fabrics", authed([this](const Account& who, const httplib::Request&, httplib::Response& res) {
-               json list = json::array();
-               for (const auto& [owner, folder] : visible(who)) {
-                 const db::FabricLoad load = db::load_fabric(folder);
-                 list.push_back({{"id", folder.filename().string()}, {"family", load.family}, {"owner", owner}});
-               }
-               reply(res, 200, {{"fabrics", list}});
-             }));
-    http.Get(R"(/api/v1/fabrics/([^/]+))", authed([this](const Account& who, const httplib::Request& req, httplib::Response& res) {
-               const std::string id = req.matches[1];
-               for (const auto& [owner, folder] : visible(who))
-                 if (usable_id(id) && folder.filename() == id) {
-                   const db::FabricLoad load = db::load_fabric(folder);
-                   return reply(res, 200, {{"id", id}, {"family", load.family}, {"owner", owner}, {"files", files_of(folder)}});
-                 }
-               refuse(res, 404, "no fabric '" + id + "'");
-             }));
+    on(get, "/healthz", "/healthz", [this](const httplib::Request&, httplib::Response& res) {
+      const std::string why = jobs.engine_problem();
+      if (why.empty()) return res.set_content("ok\n", "text/plain");
+      res.status = 503;
+      res.set_content("fits cannot run: " + why + "\n", "text/plain");
+    });
+    on(get, "/", "/", [](const httplib::Request&, httplib::Response& res) {
+      // Everything the page needs is in it; it talks to this server only.
+      res.set_header("Content-Security-Policy",
+                     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; connect-src 'self'; "
+                     "img-src 'self' data:; frame-ancestors 'none'");
+      res.set_content(page_html(), "text/html; charset=utf-8");
+    });
+    on(get, "/metrics", "/metrics", [this](const Account& who, const httplib::Request&, httplib::Response& res) {
+      if (!who.admin) return refuse(res, 403, "the metrics are an admin's");
+      res.set_content(metrics.prometheus_text(jobs.counts()), "text/plain; version=0.0.4");
+    });
+    on(post, "/api/v1/fabrics", "/api/v1/fabrics",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+         upload(who, req, reader, res);
+       });
+    on(get, "/api/v1/fabrics", "/api/v1/fabrics", [this](const Account& who, const httplib::Request&, httplib::Response& res) {
+      json list = json::array();
+      for (const auto& [owner, folder] : visible(who)) {
+        const db::FabricLoad load = db::load_fabric(folder);
+        list.push_back({{"id", folder.filename().string()}, {"family", load.family}, {"owner", owner}});
+      }
+      reply(res, 200, {{"fabrics", list}});
+    });
+    on(get, R"(/api/v1/fabrics/([^/]+))", "/api/v1/fabrics/{id}",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
+         const std::string id = req.matches[1];
+         const auto f = fabric(who, id);
+         if (!f) return refuse(res, 404, "no fabric '" + id + "'");
+         const db::FabricLoad load = db::load_fabric(f->second);
+         reply(res, 200, {{"id", id}, {"family", load.family}, {"owner", f->first}, {"files", files_of(f->second)}});
+       });
+    on(post, R"(/api/v1/fabrics/([^/]+)/fits)", "/api/v1/fabrics/{id}/fits",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) { start_fit(who, req, res); });
+    on(get, "/api/v1/jobs", "/api/v1/jobs", [this](const Account& who, const httplib::Request&, httplib::Response& res) {
+      reply(res, 200, {{"jobs", jobs.jobs(who.admin ? "" : who.name)}});
+    });
+    on(get, R"(/api/v1/jobs/([^/]+))", "/api/v1/jobs/{id}",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
+         const auto j = job(who, req.matches[1]);
+         if (!j) return refuse(res, 404, "no fit of '" + std::string(req.matches[1]) + "'");
+         reply(res, 200, j->second);
+       });
+    on(del, R"(/api/v1/jobs/([^/]+))", "/api/v1/jobs/{id}",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
+         const std::string id = req.matches[1];
+         const auto j = job(who, id);
+         if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+         const JobAnswer a = jobs.cancel(j->first, id);
+         reply(res, a.status, a.body);
+       });
+    on(get, R"(/api/v1/jobs/([^/]+)/events)", "/api/v1/jobs/{id}/events",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) { events(who, req, res); });
+    on(get, R"(/api/v1/jobs/([^/]+)/files/([^/]+))", "/api/v1/jobs/{id}/files/{name}",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) { result_file(who, req, res); });
+    on(get, R"(/api/v1/jobs/([^/]+)/report)", "/api/v1/jobs/{id}/report",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
+         const std::string id = req.matches[1];
+         const auto j = job(who, id);
+         if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+         serve_file(res, jobs.output_folder(j->first, id) / "report" / "index.html", "the report of '" + id + "'");
+       });
+    on(get, "/api/v1/report", "/api/v1/report", [this](const Account& who, const httplib::Request&, httplib::Response& res) {
+      serve_file(res, jobs.family_report(who.admin ? "" : who.name), "the report");
+    });
+    http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+      t_start = std::chrono::steady_clock::now();
+      t_route = "unmatched";
+      return httplib::Server::HandlerResponse::Unhandled;
+    });
+    http.set_post_routing_handler([this](const httplib::Request&, httplib::Response& res) {
+      metrics.record(t_route, res.status, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
+    });
     http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
       // httplib's own refusals (a route that does not exist, a body over the limit, a header too
       // long) get a JSON body too.
@@ -160,6 +387,8 @@ FittingService::FittingService(fs::path data_dir, ServiceOptions options)
     : m_impl(std::make_unique<Impl>(std::move(data_dir), std::move(options))) {}
 
 FittingService::~FittingService() { stop(); }
+
+const std::vector<Route>& FittingService::routes() const { return m_impl->registered; }
 
 int FittingService::bind() {
   const int port = m_impl->options.port == 0 ? m_impl->http.bind_to_any_port(m_impl->options.host)

@@ -1,22 +1,34 @@
 #pragma once
-// The fitting service's HTTP API (issue 35), on cpp-httplib: so far health, bearer-token
-// authentication and the fabrics (upload, list, show). Every request but /healthz carries
-// `Authorization: Bearer <token>` (service/accounts); a user sees only their own fabrics (another
-// user's id answers 404, as a missing one does), an admin sees all.
+// The fitting service's HTTP API (issue 35, docs/service.md, docs/openapi.yaml), on cpp-httplib.
+// Every request but /healthz carries `Authorization: Bearer <token>` (service/accounts); a user
+// sees only their own fabrics and jobs (another user's id answers 404, as a missing one does),
+// an admin sees all.
 //
-//   GET  /healthz                  200 "ok"
-//   POST /api/v1/fabrics           body: a .zip or .tar.gz of a record folder (service/upload);
-//                                  201 {"id", "family", "files"} or 4xx {"error", "problems"}
-//   GET  /api/v1/fabrics           200 {"fabrics": [{"id", "family", "owner"}]}
-//   GET  /api/v1/fabrics/{id}      200 {"id", "family", "owner", "files"} or 404
+//   GET    /healthz                          200 "ok"; 503 when fits cannot run
+//   GET    /metrics                          Prometheus text (an admin's token)
+//   POST   /api/v1/fabrics                   a .zip or .tar.gz of a record folder (service/upload):
+//                                            201 {"id", "family", "files"} or 4xx {"error", "problems"}
+//   GET    /api/v1/fabrics                   {"fabrics": [{"id", "family", "owner"}]}
+//   GET    /api/v1/fabrics/{id}              {"id", "family", "owner", "files"}
+//   POST   /api/v1/fabrics/{id}/fits         fit options (service/jobs/fit_request_json.hpp): 202 job
+//   GET    /api/v1/jobs                      {"jobs": [job…]}
+//   GET    /api/v1/jobs/{id}                 job (service/jobs/fit_jobs.hpp)
+//   DELETE /api/v1/jobs/{id}                 cancels it
+//   GET    /api/v1/jobs/{id}/events          text/event-stream of the job until it ends
+//   GET    /api/v1/jobs/{id}/files/{name}    a result file
+//   GET    /api/v1/jobs/{id}/report          the fabric's HTML report
+//   GET    /api/v1/report                    the report over the caller's fabrics, by family
 //
 // DATA_DIR/accounts.db holds the users, DATA_DIR/fabrics/<user>/<id>/ the accepted records
-// (unpacked whole, validated, then renamed into place before 201 is sent).
+// (unpacked whole, validated, then renamed into place before 201 is sent), DATA_DIR/runs/ the
+// fits (a batch folder).
 
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "service/jobs/fit_jobs.hpp"
 #include "service/upload/archive_upload.hpp"
 
 namespace yarnfit::service {
@@ -25,8 +37,19 @@ struct ServiceOptions {
   std::string host = "127.0.0.1";
   int port = 8080;  // 0: any free port (tests)
   UploadLimits upload;
-  int read_timeout_s = 10;   // a client that sends slowly is cut off
+  FitJobsOptions jobs;
+  int read_timeout_s = 10;   // a client silent this long is cut off
   int write_timeout_s = 10;
+  // An upload's whole body must arrive within this (408 otherwise): a client that trickles its
+  // body a byte at a time never trips the read timeout above, which counts one silence.
+  int upload_timeout_s = 120;
+};
+
+// A route the server answers: its method and its path as docs/openapi.yaml writes it.
+struct Route {
+  std::string method;
+  std::string path;
+  bool operator==(const Route&) const = default;
 };
 
 class FittingService {
@@ -39,6 +62,8 @@ class FittingService {
   // Binds the listening socket; returns the port (the chosen one when options.port is 0).
   // Throws std::runtime_error when it cannot.
   int bind();
+  // Every route registered, in registration order.
+  [[nodiscard]] const std::vector<Route>& routes() const;
   // Serves until stop() (from another thread or a signal handler).
   void run();
   void stop();

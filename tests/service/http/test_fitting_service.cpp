@@ -4,17 +4,23 @@
 // fabrics invisible to another (404, as a missing one) but visible to an admin.
 #include <gtest/gtest.h>
 
-#include <httplib.h>
 
+#include <set>
 #include <thread>
+
+#include <yaml-cpp/yaml.h>
 
 #include <nlohmann/json.hpp>
 
+#include "tests/service/served_fixture.hpp"
 #include "tests/service/test_archives.hpp"
 #include "tests/test_support.hpp"
 
 #include "service/accounts/accounts.hpp"
 #include "service/http/fitting_service.hpp"
+
+// After the project's headers: <httplib.h> brings <resolv.h>, whose `_res` macro breaks Eigen.
+#include <httplib.h>
 
 namespace yarnfit::service {
 namespace {
@@ -36,37 +42,13 @@ std::string zipped_record(const std::string& yaml_override = "") {
   return make_archive(items, Kind::zip);
 }
 
-// A service on 127.0.0.1:<any port> over a fresh data folder with users ana, bob and an admin.
-class Served : public ::testing::Test {
+class Served : public yarnfit::testing::ServedTest {
  protected:
   void SetUp() override {
-    {
-      Accounts accounts(m_dir / "accounts.db");
-      m_ana = accounts.add_user("ana", false).token;
-      m_bob = accounts.add_user("bob", false).token;
-      m_admin = accounts.add_user("lab", true).token;
-    }
-    ServiceOptions o;
-    o.port = 0;
-    m_service = std::make_unique<FittingService>(m_dir.path(), o);
-    m_port = m_service->bind();
-    m_thread = std::thread([this] { m_service->run(); });
+    ServedTest::SetUp();
+    serve();
   }
-  void TearDown() override {
-    m_service->stop();
-    m_thread.join();
-  }
-  httplib::Client client(const std::string& token = "") const {
-    httplib::Client c("127.0.0.1", m_port);
-    if (!token.empty()) c.set_bearer_token_auth(token.c_str());
-    return c;
-  }
-
-  ScratchDir m_dir{"served"};
-  std::string m_ana, m_bob, m_admin;
-  std::unique_ptr<FittingService> m_service;
-  int m_port = 0;
-  std::thread m_thread;
+  fs::path m_dir = data();
 };
 
 TEST_F(Served, HealthNeedsNoTokenAndEverythingElseAValidOne) {
@@ -124,7 +106,36 @@ TEST_F(Served, RefusedUploadsSayWhyAndLeaveNothing) {
   EXPECT_EQ(client(m_ana).Post("/api/v1/fabrics", "{]", "application/json")->status, 415);
   EXPECT_TRUE(fs::is_empty(m_dir / "uploads"));
   EXPECT_FALSE(fs::exists(m_dir / "fabrics" / "ana"));
-  EXPECT_FALSE(fs::exists(m_dir.path().parent_path() / "evil.csv"));
+  EXPECT_FALSE(fs::exists(m_dir.parent_path() / "evil.csv"));
+}
+
+}  // namespace
+}  // namespace yarnfit::service
+
+namespace yarnfit::service {
+namespace {
+
+// docs/openapi.yaml describes exactly the routes the server registers: every path and method
+// there is served, and every route served is there.
+TEST(OpenApi, TheDescriptionHoldsEveryRouteTheServerRegistersAndNoOther) {
+  ScratchDir dir("openapi");
+  ServiceOptions o;
+  o.port = 0;
+  const FittingService server(dir.path(), o);
+  std::set<std::string> served, described;
+  for (const Route& r : server.routes()) served.insert(r.method + " " + r.path);
+  const YAML::Node doc = YAML::LoadFile((fs::path(YARNFIT_SOURCE_DIR) / "docs" / "openapi.yaml").string());
+  ASSERT_EQ(doc["openapi"].as<std::string>().rfind("3.", 0), 0u);
+  for (const auto& path : doc["paths"])
+    for (const auto& op : path.second) {
+      const std::string method = op.first.as<std::string>();
+      if (method == "parameters") continue;
+      std::string upper;
+      for (const char c : method) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      described.insert(upper + " " + path.first.as<std::string>());
+    }
+  EXPECT_EQ(served, described);
+  EXPECT_EQ(served.size(), server.routes().size());  // none registered twice
 }
 
 }  // namespace

@@ -1,0 +1,382 @@
+#include "service/jobs/fit_jobs.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <future>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "batch/batch.hpp"
+#include "batch/batch_report.hpp"
+#include "fabrics_db/records/fabric_reader.hpp"
+#include "reports/report.hpp"
+
+namespace yarnfit::service {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* k_cancelled = "cancelled by its owner";
+
+// Writes `text` to `file` whole or not at all (temporary file, fsync, rename).
+void write_whole(const fs::path& file, const std::string& text) {
+  fs::create_directories(file.parent_path());
+  const fs::path tmp = file.string() + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(tmp.string() + ": cannot write");
+  const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()) && ::fsync(fd) == 0;
+  ::close(fd);
+  if (!ok || std::rename(tmp.c_str(), file.c_str()) != 0) {
+    fs::remove(tmp);
+    throw std::runtime_error(file.string() + ": cannot write");
+  }
+}
+
+// "local 1 40/150" → (40, 150); (0, 0) when the text ends without a step.
+std::pair<int, int> step_of(const std::string& text) {
+  const auto slash = text.rfind('/');
+  const auto space = text.rfind(' ');
+  if (slash == std::string::npos || space == std::string::npos || space > slash) return {0, 0};
+  try {
+    return {std::stoi(text.substr(space + 1, slash - space - 1)), std::stoi(text.substr(slash + 1))};
+  } catch (const std::exception&) {
+    return {0, 0};
+  }
+}
+
+// A rough share of the fit done, from the step the fit reports: for the whole pipeline the
+// shell stage is taken as the first 15 %, the global search up to 60 %, the local step up to
+// 97 %, the report the rest; a shell-only fit as its own steps. An estimate for a progress
+// bar, not a promise: the stages' real shares vary with the record and the budget.
+double progress_of(const std::string& stages, const std::string& step) {
+  const auto [i, n] = step_of(step);
+  const double within = n > 0 ? std::clamp(static_cast<double>(i) / n, 0.0, 1.0) : 0.0;
+  const auto band = [&](double from, double to) { return from + (to - from) * within; };
+  const std::string name = step.substr(0, step.find(' '));
+  if (stages == "shell") return name == "report" ? 0.97 : band(0.0, 0.95);
+  if (name == "shell" || name == "starting") return band(0.0, 0.15);
+  if (name == "local") return band(0.6, 0.97);
+  if (name == "report") return 0.97;
+  return band(0.15, 0.6);  // the global search: swarm, or the staged search's contact/all/swarm
+}
+
+std::string job_key(const std::string& owner, const std::string& fabric_id) { return owner + "/" + fabric_id; }
+
+}  // namespace
+
+const std::vector<std::string>& downloadable_files() {
+  static const std::vector<std::string> files{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv",
+                                              "yarn_fit.json",  "yarn_curves.csv",     "summary.txt"};
+  return files;
+}
+
+struct FitJobs::Impl {
+  fs::path data, runs;
+  FitJobsOptions options;
+
+  mutable std::mutex mutex;  // guards everything below
+  std::vector<batch::BatchFabric> pending;   // asked for, not yet taken by the engine
+  std::set<std::string> pending_keys;        // asked for, not yet in the ledger as asked
+  std::set<std::string> taken_keys;          // taken by the engine's last look
+  std::vector<std::string> cancels;
+  std::map<std::string, batch::RunningFabric> live;  // the running fits' steps
+  std::map<std::string, std::string> stages_of;      // key → "shell" or "all"
+  std::string engine_error;  // why the engine stopped on its own (empty while it runs)
+  std::atomic<bool> stopping{false};
+  std::thread engine;
+
+  fs::path request_file(const std::string& key) const { return runs / "requests" / (key + ".json"); }
+
+  // The fabric the engine runs for `request` (its problems when it cannot).
+  batch::BatchFabric fabric_for(const std::string& key, const fs::path& record, const ServiceFitRequest& request,
+                                db::Problems& problems) const {
+    batch::BatchFabric f{key, record, pipeline::pipeline_options(request.request, problems), request.report};
+    problems.append(f.fit.problems());
+    f.fit.tile_cache = batch::generated_tiles_folder(runs);
+    const db::FabricLoad load = db::load_fabric(record);
+    problems.append(load.problems);
+    if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, f.fit));
+    f.fit.tile_cache.clear();  // the batch sets it for each job
+    return f;
+  }
+
+  // Feeds the jobs a previous service left queued or running (their requests kept).
+  void feed_unfinished() {
+    if (!fs::is_directory(runs / "requests")) return;
+    const batch::Ledger ledger(batch::ledger_file(runs));
+    for (const auto& owner : fs::directory_iterator(runs / "requests"))
+      for (const auto& file : fs::directory_iterator(owner.path())) {
+        if (file.path().extension() != ".json") continue;
+        const std::string key = owner.path().filename().string() + "/" + file.path().stem().string();
+        const auto row = ledger.job(key);
+        if (row && row->status != "queued" && row->status != "running") continue;
+        std::ifstream in(file.path());
+        const json body = json::parse(in, nullptr, false);
+        db::Problems problems;
+        const ServiceFitRequest request = fit_request_from_json(body, problems);
+        const fs::path record = data / "fabrics" / key;
+        batch::BatchFabric f = fabric_for(key, record, request, problems);
+        stages_of[key] = request.request.stages;
+        pending.push_back(std::move(f));  // a record with problems now is recorded as failed by the batch
+        pending_keys.insert(key);
+      }
+  }
+
+  batch::BatchOptions engine_options() {
+    batch::BatchOptions o;
+    o.out = runs;
+    o.jobs = options.jobs;
+    o.threads_per_job = options.threads_per_job;
+    o.feed.take = [this] {
+      const std::lock_guard lock(mutex);
+      // What was taken last time is in the ledger now (the batch planned it since).
+      for (const auto& k : taken_keys) pending_keys.erase(k);
+      taken_keys.clear();
+      for (const auto& f : pending) taken_keys.insert(f.key);
+      return std::exchange(pending, {});
+    };
+    o.feed.cancelled = [this] {
+      const std::lock_guard lock(mutex);
+      return std::exchange(cancels, {});
+    };
+    o.feed.stop = [this] { return stopping.load(); };
+    return o;
+  }
+
+  void start_engine() {
+    std::promise<void> started;
+    std::future<void> ready = started.get_future();
+    batch::BatchOptions o = engine_options();
+    auto once = std::make_shared<std::once_flag>();
+    o.progress = [this, once, &started](const batch::BatchProgress& p) {
+      {
+        const std::lock_guard lock(mutex);
+        live.clear();
+        for (const auto& r : p.running) live[r.fabric_id] = r;
+      }
+      std::call_once(*once, [&started] { started.set_value(); });
+    };
+    engine = std::thread([this, o, once, &started] {
+      try {
+        batch::run_batch(o);
+      } catch (const std::exception& e) {
+        {
+          const std::lock_guard lock(mutex);
+          engine_error = e.what();
+        }
+        std::call_once(*once, [&] { started.set_exception(std::make_exception_ptr(std::runtime_error(e.what()))); });
+      }
+      if (!stopping) {
+        const std::lock_guard lock(mutex);
+        if (engine_error.empty()) engine_error = "the fit engine stopped";
+      }
+    });
+    try {
+      ready.get();
+    } catch (...) {
+      engine.join();
+      throw;
+    }
+  }
+
+  // The state a client sees: queued until the engine has planned it.
+  json describe(const std::string& key, const std::optional<batch::JobRow>& row) const {
+    const auto slash = key.find('/');
+    json j{{"id", key.substr(slash + 1)}, {"owner", key.substr(0, slash)}};
+    std::string state = row ? row->status : "queued";
+    std::string step;
+    double seconds = 0;
+    {
+      const std::lock_guard lock(mutex);
+      if (pending_keys.count(key)) state = "queued";
+      if (const auto l = live.find(key); l != live.end() && state == "running") {
+        step = l->second.stage;
+        seconds = l->second.seconds;
+      }
+    }
+    if (state == "failed" && row && row->error == k_cancelled) state = "cancelled";
+    const std::string stages = [&] {
+      const std::lock_guard lock(mutex);
+      const auto s = stages_of.find(key);
+      return s == stages_of.end() ? std::string("all") : s->second;
+    }();
+    const double progress = state == "done" ? 1.0 : state == "running" ? progress_of(stages, step) : 0.0;
+    j["state"] = state;
+    j["stage"] = state == "running" && row ? row->stage : "";
+    j["step"] = step;
+    j["progress"] = progress;
+    if (state != "queued" && row && row->started > 0)
+      seconds = state == "running" ? std::max(seconds, batch::unix_now() - row->started) : row->ended - row->started;
+    j["seconds"] = seconds;
+    j["seconds_left"] = state == "running" && progress > 0.02 ? json(seconds * (1 - progress) / progress) : json();
+    j["attempts"] = row ? row->attempts : 0;
+    j["error"] = state == "failed" && row ? row->error : "";
+    json files = json::array();
+    const fs::path folder = batch::fabric_output_folder(runs, key);
+    if (state != "queued")
+      for (const auto& f : downloadable_files())
+        if (fs::exists(folder / f)) files.push_back(f);
+    j["files"] = files;
+    j["report"] = state != "queued" && fs::exists(folder / "report" / "index.html");
+    return j;
+  }
+
+  [[nodiscard]] batch::Ledger ledger() const { return batch::Ledger::open_read_only(batch::ledger_file(runs)); }
+
+  std::optional<json> find(const std::string& key) const {
+    const auto row = ledger().job(key);
+    bool asked = false;
+    {
+      const std::lock_guard lock(mutex);
+      asked = pending_keys.count(key) > 0;
+    }
+    if (!row && !asked) return std::nullopt;
+    return describe(key, row);
+  }
+
+  // Jobs queued or running: of `owner`, and of everyone.
+  std::pair<int, int> active(const std::string& owner) const {
+    std::set<std::string> keys;
+    for (const auto& row : ledger().jobs())
+      if (row.status == "queued" || row.status == "running") keys.insert(row.fabric_id);
+    {
+      const std::lock_guard lock(mutex);
+      keys.insert(pending_keys.begin(), pending_keys.end());
+    }
+    const int mine = static_cast<int>(std::count_if(keys.begin(), keys.end(), [&](const std::string& k) {
+      return k.compare(0, owner.size() + 1, owner + "/") == 0;
+    }));
+    return {mine, static_cast<int>(keys.size())};
+  }
+};
+
+FitJobs::FitJobs(fs::path data_dir, FitJobsOptions options) : m_impl(std::make_unique<Impl>()) {
+  m_impl->data = std::move(data_dir);
+  m_impl->runs = m_impl->data / "runs";
+  m_impl->options = options;
+  fs::create_directories(m_impl->runs);
+  {
+    const std::lock_guard lock(m_impl->mutex);
+    m_impl->feed_unfinished();
+  }
+  m_impl->start_engine();
+}
+
+FitJobs::~FitJobs() {
+  m_impl->stopping = true;
+  if (m_impl->engine.joinable()) m_impl->engine.join();
+}
+
+JobAnswer FitJobs::start(const std::string& owner, const std::string& fabric_id, const fs::path& record,
+                         const json& body) {
+  const std::string key = job_key(owner, fabric_id);
+  if (const std::string why = engine_problem(); !why.empty())
+    return {503, {{"error", "fits cannot run now: " + why}, {"problems", json::array()}}};
+  db::Problems problems;
+  const ServiceFitRequest request = fit_request_from_json(body, problems);
+  batch::BatchFabric fabric = m_impl->fabric_for(key, record, request, problems);
+  if (!problems.empty()) {
+    json list = json::array();
+    for (const auto& p : problems.items()) list.push_back(p.to_string());
+    return {422, {{"error", "the fit cannot run as asked"}, {"problems", list}}};
+  }
+  if (const auto now = m_impl->find(key); now && ((*now)["state"] == "queued" || (*now)["state"] == "running"))
+    return {409, {{"error", "a fit of '" + fabric_id + "' is " + (*now)["state"].get<std::string>()}, {"problems", json::array()}}};
+  const auto [mine, all] = m_impl->active(owner);
+  if (mine >= m_impl->options.active_per_user)
+    return {429, {{"error", "you have " + std::to_string(mine) + " fits queued or running (at most " +
+                                std::to_string(m_impl->options.active_per_user) + "); wait for one to end"},
+                  {"problems", json::array()}}};
+  if (all >= m_impl->options.queue_length)
+    return {429, {{"error", "the queue is full (" + std::to_string(all) + " fits); try again later"}, {"problems", json::array()}}};
+  write_whole(m_impl->request_file(key), to_json(request).dump(2) + "\n");
+  {
+    const std::lock_guard lock(m_impl->mutex);
+    m_impl->stages_of[key] = request.request.stages;
+    m_impl->pending.push_back(std::move(fabric));
+    m_impl->pending_keys.insert(key);
+  }
+  return {202, *m_impl->find(key)};
+}
+
+JobAnswer FitJobs::cancel(const std::string& owner, const std::string& fabric_id) {
+  const std::string key = job_key(owner, fabric_id);
+  const auto now = m_impl->find(key);
+  if (!now) return {404, {{"error", "no fit of '" + fabric_id + "'"}, {"problems", json::array()}}};
+  if ((*now)["state"] != "queued" && (*now)["state"] != "running")
+    return {409, {{"error", "the fit of '" + fabric_id + "' has ended (" + (*now)["state"].get<std::string>() + ")"},
+                  {"problems", json::array()}}};
+  {
+    const std::lock_guard lock(m_impl->mutex);
+    m_impl->cancels.push_back(key);
+  }
+  // The engine looks at its feed four times a second; the answer waits for it.
+  for (int i = 0; i < 100; ++i) {
+    const auto after = m_impl->find(key);
+    if (after && (*after)["state"] == "cancelled") return {200, *after};
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return {202, *m_impl->find(key)};
+}
+
+std::string FitJobs::engine_problem() const {
+  const std::lock_guard lock(m_impl->mutex);
+  return m_impl->engine_error;
+}
+
+std::optional<json> FitJobs::job(const std::string& owner, const std::string& fabric_id) const {
+  return m_impl->find(job_key(owner, fabric_id));
+}
+
+std::vector<json> FitJobs::jobs(const std::string& owner) const {
+  std::map<std::string, std::optional<batch::JobRow>> keys;
+  for (const auto& row : m_impl->ledger().jobs()) keys[row.fabric_id] = row;
+  {
+    const std::lock_guard lock(m_impl->mutex);
+    for (const auto& k : m_impl->pending_keys) keys.try_emplace(k);
+  }
+  std::vector<json> out;
+  for (const auto& [key, row] : keys)
+    if (owner.empty() || key.compare(0, owner.size() + 1, owner + "/") == 0) out.push_back(m_impl->describe(key, row));
+  return out;
+}
+
+std::vector<std::pair<std::string, int>> FitJobs::counts() const {
+  std::map<std::string, int> n{{"queued", 0}, {"running", 0}, {"done", 0}, {"failed", 0}, {"cancelled", 0}};
+  for (const auto& j : jobs("")) ++n[j["state"].get<std::string>()];
+  return {n.begin(), n.end()};
+}
+
+fs::path FitJobs::output_folder(const std::string& owner, const std::string& fabric_id) const {
+  return batch::fabric_output_folder(m_impl->runs, job_key(owner, fabric_id));
+}
+
+fs::path FitJobs::family_report(const std::string& owner) const {
+  reports::RunOutputs run = batch::read_batch_outputs(m_impl->runs);
+  std::vector<reports::FabricOutputs> mine;
+  for (auto& f : run.fabrics)
+    if (owner.empty() || f.id.compare(0, owner.size() + 1, owner + "/") == 0) {
+      if (!owner.empty()) f.id = f.id.substr(owner.size() + 1);  // the user's own names
+      mine.push_back(std::move(f));
+    }
+  run.fabrics = std::move(mine);
+  run.label = owner.empty() ? "all users" : owner;
+  std::vector<reports::RunOutputs> runs;
+  runs.push_back(std::move(run));
+  const fs::path folder = owner.empty() ? m_impl->data / "reports" / "everyone" : m_impl->data / "reports" / "users" / owner;
+  return reports::write_report(reports::make_report_data(std::move(runs)), folder);
+}
+
+}  // namespace yarnfit::service

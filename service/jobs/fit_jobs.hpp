@@ -1,0 +1,82 @@
+#pragma once
+// The fitting service's jobs: a fit asked over HTTP is a job of the batch engine (batch/), not
+// of a runner of the service's own. DATA_DIR/runs is a batch folder: its ledger
+// DATA_DIR/runs/batch.db holds every job (keyed "<user>/<fabric id>"), each fit runs in a
+// forked child as `yarnfit batch` runs it, writing DATA_DIR/runs/fabrics/<user>/<id>/ and
+// checkpointing its swarm there. One batch runs for the service's whole life on its own
+// thread, fed by start() and cancel() (batch::BatchFeed).
+//
+// What a request asked for is kept in DATA_DIR/runs/requests/<user>/<id>.json (written whole
+// before start() answers): after a restart, even after kill -9, every job the ledger holds as
+// queued or running is fed again, and the batch resumes it from its checkpoint (a job found
+// running whose process is gone is taken over, as `batch` does).
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "service/jobs/fit_request_json.hpp"
+
+namespace yarnfit::service {
+
+struct FitJobsOptions {
+  int jobs = 1;             // fits at once
+  int threads_per_job = 2;  // OpenMP threads of each
+  int active_per_user = 2;  // a user's jobs queued or running at once (429 past it)
+  int queue_length = 32;    // jobs queued or running for everyone (429 past it)
+};
+
+// An answer of the job routes: HTTP status and JSON body.
+struct JobAnswer {
+  int status = 200;
+  nlohmann::json body;
+};
+
+// Result files a job can be asked for, as its folder names them.
+[[nodiscard]] const std::vector<std::string>& downloadable_files();
+
+class FitJobs {
+ public:
+  // Starts the engine on DATA_DIR/runs and feeds it the jobs a previous run left queued or
+  // running. Throws std::runtime_error when the engine cannot start (another service holds
+  // DATA_DIR/runs).
+  FitJobs(std::filesystem::path data_dir, FitJobsOptions options);
+  // Stops the engine: running fits are killed and stay queued for the next start.
+  ~FitJobs();
+  FitJobs(const FitJobs&) = delete;
+  FitJobs& operator=(const FitJobs&) = delete;
+
+  // A fit of `owner`'s fabric `fabric_id` (its record in `record`): 202 with the job; 422 with
+  // the request's problems; 409 when it is queued or running already; 429 past the limits.
+  JobAnswer start(const std::string& owner, const std::string& fabric_id, const std::filesystem::path& record,
+                  const nlohmann::json& body);
+  // 200 with the job marked cancelled; 409 when it has ended; 404 when there is none.
+  JobAnswer cancel(const std::string& owner, const std::string& fabric_id);
+
+  // The job of `owner`'s fabric as the API shows it: id, owner, state (queued, running, done,
+  // failed, cancelled), stage, step, progress (0–1), seconds, seconds_left (null when not
+  // known), attempts, error, files (the result files there are), report (true when written).
+  [[nodiscard]] std::optional<nlohmann::json> job(const std::string& owner, const std::string& fabric_id) const;
+  // Every job of `owner`, or of everyone when `owner` is empty.
+  [[nodiscard]] std::vector<nlohmann::json> jobs(const std::string& owner) const;
+  // Why fits cannot run (the engine stopped on an error); empty while they can.
+  [[nodiscard]] std::string engine_problem() const;
+  // Counts of jobs by state (for /metrics).
+  [[nodiscard]] std::vector<std::pair<std::string, int>> counts() const;
+
+  // The folder of the job's outputs.
+  [[nodiscard]] std::filesystem::path output_folder(const std::string& owner, const std::string& fabric_id) const;
+  // Writes the report over `owner`'s fabrics (everyone's when empty) into DATA_DIR/reports/
+  // and returns its index.html.
+  [[nodiscard]] std::filesystem::path family_report(const std::string& owner) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace yarnfit::service

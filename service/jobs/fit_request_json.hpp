@@ -1,0 +1,33 @@
+#pragma once
+// A service fit request (the body of POST /api/v1/fabrics/{id}/fits) read into the request the
+// command line fills (pipeline/fit_request.hpp), so that a fit asked over HTTP is the fit
+// `yarnfit fit` would run with the same words:
+//
+//   {"stages": "all", "budget": "quick", "seed": 7, "report": true}
+//
+// Fields: stages ("shell" or "all"), budget, global_method, local_method, particles,
+// iterations, samples, local_samples, local_evaluations, starts, seed, shell_model,
+// max_iterations, full_range, no_swarm, linear_stretch, no_rest_shape, no_profile, report
+// (default true).
+// An unknown field, a value of the wrong type or a name the fit cannot use is a problem
+// naming the field; the stages' own ranges are checked as `fit`'s are.
+
+#include <nlohmann/json.hpp>
+
+#include "fabrics_db/problems.hpp"
+#include "pipeline/fit_request.hpp"
+
+namespace yarnfit::service {
+
+struct ServiceFitRequest {
+  pipeline::FitRequest request;
+  bool report = true;  // the fabric's own report, written with its results
+};
+
+// `body` as a request; every problem goes to `problems` (file "request", line 0).
+[[nodiscard]] ServiceFitRequest fit_request_from_json(const nlohmann::json& body, db::Problems& problems);
+
+// The request back as JSON (what the service keeps to resume a job after a restart).
+[[nodiscard]] nlohmann::json to_json(const ServiceFitRequest& request);
+
+}  // namespace yarnfit::service
