@@ -127,9 +127,9 @@ int main(int argc, char** argv) {
   }
   // The two fits are running before the load starts.
   for (int i = 0; i < 600; ++i) {
-    const auto jobs = setup.Get("/api/v1/jobs");
+    const json jobs = json::parse(setup.Get("/api/v1/jobs")->body);
     int running = 0;
-    for (const auto& j : json::parse(jobs->body)["jobs"]) running += j["state"] == "running";
+    for (const auto& j : jobs["jobs"]) running += j["state"] == "running";
     if (running == 2) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
       httplib::Client client("127.0.0.1", port);
       client.set_bearer_token_auth(token.c_str());
       client.set_keep_alive(true);
+      client.set_tcp_nodelay(true);
       std::vector<Sample> mine;
       for (int n; (n = next++) < requests && Clock::now() < deadline;) {
         // Every 100th request is an upload (20 of 2,000), a third of the rest listings, the
@@ -173,7 +174,11 @@ int main(int argc, char** argv) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
   int running = 0;
-  for (const auto& j : json::parse(setup.Get("/api/v1/jobs")->body)["jobs"]) running += j["state"] == "running";
+  const json jobs_after = json::parse(setup.Get("/api/v1/jobs")->body);
+  for (const auto& j : jobs_after["jobs"]) {
+    running += j["state"] == "running";
+    if (j["state"] != "running") std::printf("fit of %s: %s %s\n", j["id"].get<std::string>().c_str(), j["state"].get<std::string>().c_str(), j["error"].get<std::string>().c_str());
+  }
   std::map<std::string, std::vector<double>> by_kind;
   std::map<std::string, int> errors;
   for (const auto& s : samples) {
