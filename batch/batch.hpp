@@ -78,6 +78,23 @@ BatchSummary run_batch(const BatchOptions& options);
 // (on rank 0, after telling the workers to stop) as run_batch does, and when built without MPI.
 BatchSummary run_batch_mpi(const BatchOptions& options);
 
+// MPI for a caller that runs more than the batch under mpirun (the service: rank 0 serves HTTP
+// and coordinates, the others fit): initialised (threads SERIALIZED: the batch may run on a
+// thread other than the main one) from construction to destruction, on the main thread.
+// Throws BatchError when built without MPI.
+class MpiScope {
+ public:
+  MpiScope();
+  ~MpiScope();
+  MpiScope(const MpiScope&) = delete;
+  MpiScope& operator=(const MpiScope&) = delete;
+  [[nodiscard]] int rank() const { return m_rank; }
+  [[nodiscard]] int size() const { return m_size; }
+
+ private:
+  int m_rank = 0, m_size = 1;
+};
+
 // The ledger as `batch status --json` prints it: {"ledger", "counts" {queued, running, done,
 // failed}, "jobs" [...], "results" [...]}.
 [[nodiscard]] nlohmann::json batch_status_json(const Ledger& ledger);

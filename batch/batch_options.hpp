@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ struct BatchFabric {
 // stops the ones `cancelled` names (queued or running: recorded as failed, "cancelled"), and
 // ends when `stop` says so (running jobs back to queued, as on SIGINT). Called on the thread
 // that runs the batch.
+// The error the ledger records for a job its feed cancelled.
+inline constexpr const char* k_cancelled_by_owner = "cancelled by its owner";
+
 struct BatchFeed {
   std::function<std::vector<BatchFabric>()> take;
   std::function<std::vector<std::string>()> cancelled;
@@ -71,6 +75,9 @@ struct BatchOptions {
   double stale_after = 60.0;
   BatchProgressFn progress;
   BatchFeed feed;
+  // The options of a fed fabric, looked up by its key where a job arrives without them (an MPI
+  // worker is sent the key only); the batch's `fit` when empty or when it finds none.
+  std::function<std::optional<BatchFabric>(const std::string& key)> fabric_of;
 
   // Every invalid field ("jobs", "threads_per_job", "fit.…"); empty when usable.
   [[nodiscard]] db::Problems problems() const;

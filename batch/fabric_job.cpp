@@ -35,8 +35,16 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   pipeline::FitPlan plan;
   plan.fabric = spec.folder;
   plan.out = fabric_output_folder(options.out, spec.fabric_id);
-  plan.options = spec.fit ? *spec.fit : options.fit;
+  plan.options = options.fit;
   plan.report = spec.report;
+  if (spec.fit) {
+    plan.options = *spec.fit;
+  } else if (options.fabric_of) {
+    if (const std::optional<BatchFabric> own = options.fabric_of(spec.fabric_id)) {
+      plan.options = own->fit;
+      plan.report = own->report;
+    }
+  }
   plan.overwrite = true;  // the ledger decides what runs again
   fs::create_directories(plan.out);
   pipeline::PipelineOptions& o = plan.options;

@@ -149,7 +149,7 @@ void follow_feed(BatchRun& run, std::vector<Child>& children) {
       stop_child(*c);
       children.erase(c);
     }
-    run.cancel(key, "cancelled by its owner");
+    run.cancel(key, k_cancelled_by_owner);
   }
 }
 

@@ -92,8 +92,20 @@ BatchSummary coordinator(const BatchOptions& options, int size) {
   }
   BatchRun& run = *run_holder;
   std::map<int, WorkerState> workers;  // the ranks that said hello
+  const BatchFeed& feed = options.feed;
+  auto last_look = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  bool stopped = false;
   run.tick(true);
   for (;;) {
+    if (feed && std::chrono::steady_clock::now() - last_look > std::chrono::milliseconds(250)) {
+      last_look = std::chrono::steady_clock::now();
+      if ((stopped = feed.stop && feed.stop())) break;
+      for (const BatchFabric& f : feed.take()) run.add(f);
+      // A worker's fit cannot be stopped from here: it is recorded as cancelled now, and what
+      // the worker reports when it ends is dropped.
+      if (feed.cancelled)
+        for (const std::string& key : feed.cancelled()) run.cancel(key, k_cancelled_by_owner);
+    }
     for (auto& [rank, w] : workers) {
       if (!w.fabric_id.empty() || !run.has_queued()) continue;
       const JobSpec spec = run.next();
@@ -101,7 +113,7 @@ BatchSummary coordinator(const BatchOptions& options, int size) {
       w.fabric_id = spec.fabric_id;
       run.started(spec, w.host, w.pid);
     }
-    if (!run.has_queued() && run.running_count() == 0) break;
+    if (!feed && !run.has_queued() && run.running_count() == 0) break;
     int flag = 0;
     MPI_Status status;
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
@@ -124,14 +136,25 @@ BatchSummary coordinator(const BatchOptions& options, int size) {
     }
     run.tick();
   }
+  for (const std::string& id : run.running_ids()) run.interrupted(id);  // stopped: queued for the next start
   stop_workers(size);
   run.tick(true);
-  return run.summary(false);
+  return run.summary(stopped);
 }
 
 }  // namespace
 
 bool mpi_available() { return true; }
+
+MpiScope::MpiScope() {
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+  if (provided < MPI_THREAD_SERIALIZED) throw BatchError("this MPI cannot be called from a thread other than main");
+  MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &m_size);
+}
+
+MpiScope::~MpiScope() { MPI_Finalize(); }
 
 // MPI_Init_thread … MPI_Finalize around the run, unless the caller initialised MPI itself.
 class MpiSession {
@@ -141,7 +164,7 @@ class MpiSession {
     MPI_Initialized(&initialised);
     if (initialised) return;
     int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
     m_owner = true;
   }
   ~MpiSession() {
@@ -180,6 +203,9 @@ bool mpi_available() { return false; }
 BatchSummary run_batch_mpi(const BatchOptions&) {
   throw BatchError("--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)");
 }
+
+MpiScope::MpiScope() { throw BatchError("--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)"); }
+MpiScope::~MpiScope() = default;
 
 }  // namespace yarnfit::batch
 

@@ -8,8 +8,10 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <thread>
 
+#include "batch/batch.hpp"
 #include "cli/commands.hpp"
 #include "service/accounts/accounts.hpp"
 #include "service/http/fitting_service.hpp"
@@ -58,6 +60,7 @@ struct ServeArgs {
   std::string data_dir;
   std::string listen = "127.0.0.1:8080";
   service::FitJobsOptions jobs;
+  bool mpi = false;
 };
 
 // Serves DATA_DIR until SIGINT or SIGTERM (taken by a thread that waits for them, then stops
@@ -78,12 +81,24 @@ int run_serve(const ServeArgs& a) {
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by the server's threads
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by the server's threads (and MPI's)
   try {
+    std::optional<batch::MpiScope> mpi;
+    if (a.mpi) {
+      mpi.emplace();
+      if (mpi->size() < 2) throw std::runtime_error("--mpi needs at least 2 ranks (rank 0 serves, the others fit): mpirun -np K");
+      if (mpi->rank() != 0) {
+        service::run_fit_worker(a.data_dir, o.jobs);
+        return k_exit_ok;
+      }
+      o.jobs.mpi = true;
+    }
     service::FittingService server(a.data_dir, o);
     const int port = server.bind();
     std::cout << "yarnfit serve: " << a.data_dir << " on http://" << o.host << ":" << port
-              << "/ (GET /healthz; the API under /api/v1 with 'Authorization: Bearer <token>'); Ctrl-C stops\n"
+              << "/ (GET /healthz; the API under /api/v1 with 'Authorization: Bearer <token>'); fits on "
+              << (a.mpi ? std::to_string(mpi->size() - 1) + " MPI ranks" : std::to_string(o.jobs.jobs) + " processes")
+              << "; Ctrl-C stops\n"
               << std::flush;
     std::thread stopper([&server, &signals] {
       int received = 0;
@@ -119,6 +134,9 @@ void add_serve_commands(CLI::App& app, int& exit_code) {
                     "A user's fits queued or running at once (429 past it)")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
+  serve->add_flag("--mpi", serve_args->mpi,
+                  std::string("Under mpirun: rank 0 serves and keeps the ledger, the other ranks fit (docs/service.md)") +
+                      (batch::mpi_available() ? "" : " (this build has no MPI)"));
   serve->add_option("--queue-length", serve_args->jobs.queue_length, "Fits queued or running for everyone (429 past it)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();

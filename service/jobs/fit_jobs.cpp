@@ -28,8 +28,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* k_cancelled = "cancelled by its owner";
-
 // Writes `text` to `file` whole or not at all (temporary file, fsync, rename).
 void write_whole(const fs::path& file, const std::string& text) {
   fs::create_directories(file.parent_path());
@@ -74,7 +72,44 @@ double progress_of(const std::string& stages, const std::string& step) {
 
 std::string job_key(const std::string& owner, const std::string& fabric_id) { return owner + "/" + fabric_id; }
 
+fs::path request_file_of(const fs::path& runs, const std::string& key) { return runs / "requests" / (key + ".json"); }
+
+ServiceFitRequest read_request(const fs::path& file, db::Problems& problems) {
+  std::ifstream in(file);
+  return fit_request_from_json(json::parse(in, nullptr, false), problems);
+}
+
+// The fabric the engine runs for `request` (its problems when it cannot).
+batch::BatchFabric fabric_of_request(const fs::path& runs, const std::string& key, const fs::path& record,
+                                     const ServiceFitRequest& request, db::Problems& problems) {
+  batch::BatchFabric f{key, record, pipeline::pipeline_options(request.request, problems), request.report};
+  problems.append(f.fit.problems());
+  f.fit.tile_cache = batch::generated_tiles_folder(runs);
+  const db::FabricLoad load = db::load_fabric(record);
+  problems.append(load.problems);
+  if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, f.fit));
+  f.fit.tile_cache.clear();  // the batch sets it for each job
+  return f;
+}
+
+// The fabric of job `key` as its kept request says (what an MPI worker runs).
+std::optional<batch::BatchFabric> requested_fabric(const fs::path& data, const std::string& key) {
+  const fs::path runs = data / "runs";
+  if (!fs::exists(request_file_of(runs, key))) return std::nullopt;
+  db::Problems problems;
+  const ServiceFitRequest request = read_request(request_file_of(runs, key), problems);
+  return fabric_of_request(runs, key, data / "fabrics" / key, request, problems);
+}
+
 }  // namespace
+
+void run_fit_worker(const fs::path& data_dir, const FitJobsOptions& options) {
+  batch::BatchOptions o;
+  o.out = data_dir / "runs";
+  o.threads_per_job = options.threads_per_job;
+  o.fabric_of = [data_dir](const std::string& key) { return requested_fabric(data_dir, key); };
+  batch::run_batch_mpi(o);
+}
 
 const std::vector<std::string>& downloadable_files() {
   static const std::vector<std::string> files{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv",
@@ -97,19 +132,10 @@ struct FitJobs::Impl {
   std::atomic<bool> stopping{false};
   std::thread engine;
 
-  fs::path request_file(const std::string& key) const { return runs / "requests" / (key + ".json"); }
-
-  // The fabric the engine runs for `request` (its problems when it cannot).
+  fs::path request_file(const std::string& key) const { return request_file_of(runs, key); }
   batch::BatchFabric fabric_for(const std::string& key, const fs::path& record, const ServiceFitRequest& request,
                                 db::Problems& problems) const {
-    batch::BatchFabric f{key, record, pipeline::pipeline_options(request.request, problems), request.report};
-    problems.append(f.fit.problems());
-    f.fit.tile_cache = batch::generated_tiles_folder(runs);
-    const db::FabricLoad load = db::load_fabric(record);
-    problems.append(load.problems);
-    if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, f.fit));
-    f.fit.tile_cache.clear();  // the batch sets it for each job
-    return f;
+    return fabric_of_request(runs, key, record, request, problems);
   }
 
   // Feeds the jobs a previous service left queued or running (their requests kept).
@@ -122,14 +148,11 @@ struct FitJobs::Impl {
         const std::string key = owner.path().filename().string() + "/" + file.path().stem().string();
         const auto row = ledger.job(key);
         if (row && row->status != "queued" && row->status != "running") continue;
-        std::ifstream in(file.path());
-        const json body = json::parse(in, nullptr, false);
         db::Problems problems;
-        const ServiceFitRequest request = fit_request_from_json(body, problems);
-        const fs::path record = data / "fabrics" / key;
-        batch::BatchFabric f = fabric_for(key, record, request, problems);
+        const ServiceFitRequest request = read_request(file.path(), problems);
         stages_of[key] = request.request.stages;
-        pending.push_back(std::move(f));  // a record with problems now is recorded as failed by the batch
+        // A record with problems now is recorded as failed by the batch.
+        pending.push_back(fabric_for(key, data / "fabrics" / key, request, problems));
         pending_keys.insert(key);
       }
   }
@@ -139,6 +162,7 @@ struct FitJobs::Impl {
     o.out = runs;
     o.jobs = options.jobs;
     o.threads_per_job = options.threads_per_job;
+    o.fabric_of = [data = data](const std::string& key) { return requested_fabric(data, key); };
     o.feed.take = [this] {
       const std::lock_guard lock(mutex);
       // What was taken last time is in the ledger now (the batch planned it since).
@@ -170,7 +194,8 @@ struct FitJobs::Impl {
     };
     engine = std::thread([this, o, once, &started] {
       try {
-        batch::run_batch(o);
+        if (options.mpi) batch::run_batch_mpi(o);
+        else batch::run_batch(o);
       } catch (const std::exception& e) {
         {
           const std::lock_guard lock(mutex);
@@ -206,7 +231,7 @@ struct FitJobs::Impl {
         seconds = l->second.seconds;
       }
     }
-    if (state == "failed" && row && row->error == k_cancelled) state = "cancelled";
+    if (state == "failed" && row && row->error == batch::k_cancelled_by_owner) state = "cancelled";
     const std::string stages = [&] {
       const std::lock_guard lock(mutex);
       const auto s = stages_of.find(key);

@@ -28,7 +28,14 @@ struct FitJobsOptions {
   int threads_per_job = 2;  // OpenMP threads of each
   int active_per_user = 2;  // a user's jobs queued or running at once (429 past it)
   int queue_length = 32;    // jobs queued or running for everyone (429 past it)
+  // Under mpirun (batch::MpiScope made by the caller, this is rank 0): the fits run on the
+  // other ranks, each of which calls run_fit_worker, as `batch --mpi` runs them.
+  bool mpi = false;
 };
+
+// What ranks 1…K−1 of a service under mpirun do: fit the jobs rank 0 hands them, each with the
+// options its request (kept in DATA_DIR/runs/requests/) asked for, until rank 0 stops.
+void run_fit_worker(const std::filesystem::path& data_dir, const FitJobsOptions& options);
 
 // An answer of the job routes: HTTP status and JSON body.
 struct JobAnswer {

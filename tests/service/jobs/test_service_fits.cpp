@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/batch.hpp"
 #include "batch/ledger.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "service/accounts/accounts.hpp"
@@ -296,17 +297,19 @@ int free_port() {
   return ntohs(a.sin_port);
 }
 
-// `yarnfit serve DATA --listen 127.0.0.1:PORT` as a process of its own.
-pid_t start_server(const fs::path& data, int port, const fs::path& log) {
-  const std::string cmd = "exec " + quoted(YARNFIT_CLI) + " serve " + quoted(data) + " --listen 127.0.0.1:" +
-                          std::to_string(port) + " --jobs 1 --threads-per-job 1 >>" + quoted(log) + " 2>&1";
+// `[PREFIX] yarnfit serve DATA --listen 127.0.0.1:PORT ARGS` as a process of its own, once it
+// answers /healthz.
+pid_t start_server(const fs::path& data, int port, const fs::path& log, const std::string& prefix = "",
+                   const std::string& args = " --jobs 1 --threads-per-job 1") {
+  const std::string cmd = "exec " + prefix + quoted(YARNFIT_CLI) + " serve " + quoted(data) + " --listen 127.0.0.1:" +
+                          std::to_string(port) + args + " >>" + quoted(log) + " 2>&1";
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
   httplib::Client c("127.0.0.1", port);
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < 600; ++i) {
     if (const auto r = c.Get("/healthz"); r && r->status == 200) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
@@ -356,6 +359,53 @@ TEST_F(ServedFits, AServerKilledInsideASwarmResumesToBitwiseTheUninterruptedResu
   EXPECT_EQ(results_of(other.path(), "ana/knit_a"), reference);
   const json y = json::parse(read_file(folder / "yarn_fit.json"));
   EXPECT_TRUE(y["settings"].contains("resumed_from")) << y["settings"].dump();  // inside its swarm
+}
+
+}  // namespace
+}  // namespace yarnfit::service
+
+namespace yarnfit::service {
+namespace {
+
+// OpenMPI refuses to run as root unless told; CI runs as root.
+const std::string k_mpirun =
+    "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
+    "mpirun --oversubscribe -np 2 ";
+
+TEST_F(ServedFits, UnderMpirunRankOneFitsWhatRankZeroServesWithTheSameResults) {
+  if (!batch::mpi_available()) GTEST_SKIP() << "built without MPI";
+  serve_fits();
+  upload(m_ana, "knit_a");
+  auto ana = as(m_ana);
+  ASSERT_EQ(ana.Post("/api/v1/fabrics/knit_a/fits", k_small.dump(), "application/json")->status, 202);
+  ASSERT_EQ(wait_for(ana, "knit_a", ended, 600)["state"], "done");
+  const auto reference = results_of(m_dir, "ana/knit_a");
+  stop();
+
+  ScratchDir other("served_mpi");
+  std::string token;
+  {
+    Accounts accounts(other / "accounts.db");
+    token = accounts.add_user("ana", false).token;
+  }
+  const int port = free_port();
+  const pid_t server = start_server(other.path(), port, other / "serve.log", k_mpirun, " --mpi --threads-per-job 1");
+  auto c = client_on(port, token);
+  ASSERT_EQ(c.Post("/api/v1/fabrics", Records::get().zipped("knit_a"), "application/zip")->status, 201)
+      << read_file(other / "serve.log");
+  ASSERT_EQ(c.Post("/api/v1/fabrics/knit_a/fits", k_small.dump(), "application/json")->status, 202);
+  const json after = wait_for(c, "knit_a", ended, 600);
+  const long worker_pid = batch::Ledger::open_read_only(other / "runs" / "batch.db").job("ana/knit_a")->pid;
+  ::kill(server, SIGTERM);  // mpirun passes it on: rank 0 stops serving, then tells rank 1 to stop
+  int status = 0;
+  ::waitpid(server, &status, 0);
+  const std::string log = read_file(other / "serve.log");
+  ASSERT_EQ(after["state"], "done") << after.dump() << log;
+  EXPECT_TRUE(contains(log, "fits on 1 MPI ranks")) << log;
+  EXPECT_NE(worker_pid, static_cast<long>(server));  // run by a rank, not by mpirun
+  EXPECT_EQ(results_of(other.path(), "ana/knit_a"), reference);
+  // mpirun itself exits 1 after passing a SIGTERM on, whatever its ranks do; they stopped cleanly.
+  EXPECT_FALSE(contains(log, "MPI_ABORT") || contains(log, "Signal:") || contains(log, "terminated")) << log;
 }
 
 }  // namespace
