@@ -17,6 +17,7 @@
 #include "service/accounts/accounts.hpp"
 #include "service/http/page_html.hpp"
 #include "service/http/request_metrics.hpp"
+#include "service/upload/isolated_unpack.hpp"
 #include "service/jobs/fit_jobs.hpp"
 
 namespace yarnfit::service {
@@ -147,7 +148,7 @@ struct FittingService::Impl {
     if (!body) return;
     std::random_device rd;
     const fs::path staging = data / "uploads" / (who.name + "-" + std::to_string(rd()) + std::to_string(rd()));
-    const UnpackedUpload unpacked = unpack_upload(*body, staging, options.upload);
+    const UnpackedUpload unpacked = unpack_upload_isolated(*body, staging, options.upload, options.isolation);
     if (!unpacked.ok) return refuse(res, unpacked.refusal.status, unpacked.refusal.message);
     std::error_code ec;
     const db::FabricLoad load = db::load_fabric(staging);
@@ -192,33 +193,42 @@ struct FittingService::Impl {
     return std::make_pair(f->first, std::move(*j));
   }
 
-  // text/event-stream: the job's state whenever it changes (an event "job" with the job's JSON),
-  // until it has ended; a comment line every 15 s keeps proxies from closing a quiet stream.
+  // text/event-stream: the job (an event "job" with its JSON) whenever its state, step or
+  // progress changes, and every 5 s for its time figures, until it has ended; a comment line
+  // every 15 s of a queued job keeps proxies from closing a quiet stream.
   void events(const Account& who, const httplib::Request& req, httplib::Response& res) {
     const std::string id = req.matches[1];
     const auto j = job(who, id);
     if (!j) return refuse(res, 404, "no fit of '" + id + "'");
-    const std::string owner = j->first;
-    auto last = std::make_shared<std::string>();
-    auto quiet = std::make_shared<int>(0);
+    struct Stream {
+      std::string last;  // the job without its time figures, as last sent
+      std::chrono::steady_clock::time_point sent{};
+      int quiet = 0;
+    };
+    auto stream = std::make_shared<Stream>();
     res.set_header("Cache-Control", "no-store");
-    res.set_chunked_content_provider("text/event-stream", [this, owner, id, last, quiet](std::size_t, httplib::DataSink& sink) {
+    res.set_chunked_content_provider("text/event-stream", [this, owner = j->first, id, stream](std::size_t, httplib::DataSink& sink) {
       const auto now = jobs.job(owner, id);
       if (!now) {
         sink.done();
         return true;
       }
-      const std::string text = now->dump();
-      if (text != *last) {
-        const std::string event = "event: job\ndata: " + text + "\n\n";
+      json changes = *now;
+      changes.erase("seconds");
+      changes.erase("seconds_left");
+      const std::string state = (*now)["state"];
+      const bool ended = state == "done" || state == "failed" || state == "cancelled";
+      const auto t = std::chrono::steady_clock::now();
+      if (changes.dump() != stream->last || (state == "running" && t - stream->sent > std::chrono::seconds(5))) {
+        const std::string event = "event: job\ndata: " + now->dump() + "\n\n";
         if (!sink.write(event.data(), event.size())) return false;
-        *last = text;
-        *quiet = 0;
-      } else if (++*quiet % 60 == 0 && !sink.write(": waiting\n\n", 11)) {
+        stream->last = changes.dump();
+        stream->sent = t;
+        stream->quiet = 0;
+      } else if (++stream->quiet % 60 == 0 && !sink.write(": waiting\n\n", 11)) {
         return false;
       }
-      const std::string state = (*now)["state"];
-      if (state == "done" || state == "failed" || state == "cancelled") {
+      if (ended) {
         sink.done();
         return true;
       }

@@ -30,6 +30,7 @@
 
 #include "service/jobs/fit_jobs.hpp"
 #include "service/upload/archive_upload.hpp"
+#include "service/upload/isolated_unpack.hpp"
 
 namespace yarnfit::service {
 
@@ -37,6 +38,7 @@ struct ServiceOptions {
   std::string host = "127.0.0.1";
   int port = 8080;  // 0: any free port (tests)
   UploadLimits upload;
+  UnpackIsolation isolation;  // an upload is unpacked in a child process under these limits
   FitJobsOptions jobs;
   int read_timeout_s = 10;   // a client silent this long is cut off
   int write_timeout_s = 10;

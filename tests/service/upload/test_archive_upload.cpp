@@ -14,6 +14,7 @@
 #include "tests/test_support.hpp"
 
 #include "service/upload/archive_upload.hpp"
+#include "service/upload/isolated_unpack.hpp"
 #include "tests/service/test_archives.hpp"
 
 namespace yarnfit::service {
@@ -195,6 +196,54 @@ TEST(ArchiveUpload, EntryNamesAreJudgedOneByOne) {
   EXPECT_NE(entry_name_problem("a\\..\\b.csv", 255), "");
   EXPECT_NE(entry_name_problem(std::string("a\nb.csv"), 255), "");
   EXPECT_NE(entry_name_problem(std::string(300, 'a'), 255), "");
+}
+
+}  // namespace
+}  // namespace yarnfit::service
+
+namespace yarnfit::service {
+namespace {
+
+// The server unpacks in a child process under resource limits (isolated_unpack.hpp): the same
+// folder as in-process when the archive is fair, a refusal and nothing left when it costs more.
+TEST(IsolatedUnpack, AFairArchiveUnpacksAsInProcess) {
+  ScratchDir dir("isolated");
+  const std::string zip = testing::archives::make_archive(
+      {testing::archives::file("swatch/fabric.yaml", "id: a\n"), testing::archives::file("swatch/stretch_weft.csv", "1,2\n")},
+      testing::archives::Kind::zip);
+  const UnpackedUpload in_process = unpack_upload(zip, dir / "a");
+  const UnpackedUpload isolated = unpack_upload_isolated(zip, dir / "b");
+  ASSERT_TRUE(isolated.ok) << isolated.refusal.message;
+  EXPECT_EQ(isolated.files, in_process.files);
+  EXPECT_EQ(isolated.unpacked_bytes, in_process.unpacked_bytes);
+  EXPECT_EQ(read_file(dir / "b" / "stretch_weft.csv"), "1,2\n");
+  // A refusal crosses the process boundary with its status and message.
+  const UnpackedUpload evil = unpack_upload_isolated(
+      testing::archives::make_archive({testing::archives::file("../x.csv", "1\n")}, testing::archives::Kind::tar_gz), dir / "c");
+  EXPECT_EQ(evil.refusal.status, 422);
+  EXPECT_EQ(evil.refusal.message, unpack_upload(testing::archives::make_archive({testing::archives::file("../x.csv", "1\n")},
+                                                                               testing::archives::Kind::tar_gz),
+                                                dir / "d")
+                                      .refusal.message);
+}
+
+// The wall-clock deadline, the one limit a test can reach on purpose: the child is killed in
+// the middle of its work, the upload refused and its half-written folder removed. (Memory, CPU
+// and file size are RLIMIT_AS, RLIMIT_CPU and RLIMIT_FSIZE, enforced by the kernel.)
+TEST(IsolatedUnpack, PastItsDeadlineTheChildIsStoppedAndNothingIsLeft) {
+  ScratchDir dir("isolated_limits");
+  std::vector<testing::archives::Item> items{testing::archives::file("swatch/fabric.yaml", "id: a\n")};
+  for (int i = 0; i < 150; ++i)
+    items.push_back(testing::archives::file("swatch/t" + std::to_string(i) + ".csv", std::string(200u << 10, '0')));
+  const std::string zip = testing::archives::make_archive(items, testing::archives::Kind::tar_gz);
+  UnpackIsolation hurried;
+  hurried.wall_seconds = 0;
+  const UnpackedUpload late = unpack_upload_isolated(zip, dir / "b", {}, hurried);
+  EXPECT_FALSE(late.ok);
+  EXPECT_EQ(late.refusal.status, 413) << late.refusal.message;
+  EXPECT_NE(late.refusal.message.find("more than the unpacking may use (0 s)"), std::string::npos) << late.refusal.message;
+  EXPECT_TRUE(fs::is_empty(dir.path())) << "left behind in " << dir.path();
+  EXPECT_TRUE(unpack_upload_isolated(zip, dir / "c").ok);  // the same archive, given its time
 }
 
 }  // namespace
