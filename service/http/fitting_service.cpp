@@ -17,7 +17,7 @@
 #include "service/accounts/accounts.hpp"
 #include "service/http/page_html.hpp"
 #include "service/http/request_metrics.hpp"
-#include "service/upload/isolated_unpack.hpp"
+#include "service/upload/unpack_zygote.hpp"
 #include "service/jobs/fit_jobs.hpp"
 
 namespace yarnfit::service {
@@ -69,6 +69,7 @@ thread_local std::chrono::steady_clock::time_point t_start;
 struct FittingService::Impl {
   fs::path data;
   ServiceOptions options;
+  UnpackZygote unpacker;  // first: forked while this process is small and has no threads of its own
   Accounts accounts;
   std::mutex accounts_mutex;  // one SQLite connection, handlers on many threads
   FitJobs jobs;
@@ -80,6 +81,7 @@ struct FittingService::Impl {
   Impl(fs::path data_dir, ServiceOptions o)
       : data(std::move(data_dir)),
         options(std::move(o)),
+        unpacker(options.upload, options.isolation),
         accounts((fs::create_directories(data), data / "accounts.db")),
         jobs(data, options.jobs) {
     fs::create_directories(data / "fabrics");
@@ -148,7 +150,7 @@ struct FittingService::Impl {
     if (!body) return;
     std::random_device rd;
     const fs::path staging = data / "uploads" / (who.name + "-" + std::to_string(rd()) + std::to_string(rd()));
-    const UnpackedUpload unpacked = unpack_upload_isolated(*body, staging, options.upload, options.isolation);
+    const UnpackedUpload unpacked = unpacker.unpack(*body, staging);
     if (!unpacked.ok) return refuse(res, unpacked.refusal.status, unpacked.refusal.message);
     std::error_code ec;
     const db::FabricLoad load = db::load_fabric(staging);
