@@ -69,6 +69,17 @@ TEST_F(Served, HealthNeedsNoTokenAndEverythingElseAValidOne) {
   EXPECT_EQ(client(m_ana).Get("/no/such/route")->status, 404);
 }
 
+TEST_F(Served, ThePageIsServedWithoutATokenAndLoadsNothingFromElsewhere) {
+  const auto page = client().Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_EQ(page->get_header_value("Content-Type"), "text/html; charset=utf-8");
+  EXPECT_NE(page->get_header_value("Content-Security-Policy").find("default-src 'none'"), std::string::npos);
+  EXPECT_NE(page->body.find("<title>yarnfit service</title>"), std::string::npos);
+  for (const char* outside : {"http://", "https://", "src=\"//", "href=\"//", "@import"})
+    EXPECT_EQ(page->body.find(outside), std::string::npos) << outside;
+}
+
 TEST_F(Served, AnUploadIsAcceptedWholeAndSeenOnlyByItsOwnerAndAdmins) {
   const auto created = client(m_ana).Post("/api/v1/fabrics", zipped_record(), "application/zip");
   ASSERT_TRUE(created);
