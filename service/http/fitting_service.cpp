@@ -385,10 +385,16 @@ struct FittingService::Impl {
     http.set_post_routing_handler([this](const httplib::Request&, httplib::Response& res) {
       metrics.record(t_route, res.status, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
     });
-    http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
-      // httplib's own refusals (a route that does not exist, a body over the limit, a header too
-      // long) get a JSON body too.
-      if (res.body.empty()) refuse(res, res.status, "HTTP " + std::to_string(res.status) + " for this request");
+    http.set_error_handler([this](const httplib::Request&, httplib::Response& res) {
+      // httplib's own refusals (a route that does not exist, a body over the limit, a request it
+      // cannot read) get a JSON body that says why too.
+      if (!res.body.empty()) return;
+      const std::string why = res.status == 400   ? "the request cannot be read (malformed, or a header line over 8 KiB)"
+                              : res.status == 404 ? "no such route (the API is under /api/v1; docs/openapi.yaml)"
+                              : res.status == 413 ? "the body is larger than " +
+                                                        std::to_string(options.upload.max_archive_bytes) + " bytes"
+                                                  : "HTTP " + std::to_string(res.status) + " for this request";
+      refuse(res, res.status, why);
     });
     http.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
       refuse(res, 500, "internal error");
