@@ -128,6 +128,9 @@ struct FitJobs::Impl {
   std::vector<std::string> cancels;
   std::map<std::string, batch::RunningFabric> live;  // the running fits' steps
   std::map<std::string, std::string> stages_of;      // key → "shell" or "all"
+  // The furthest progress shown of each running job, by attempt: the estimate from the step
+  // can fall back (a stage's steps count towards a budget it rarely uses up), a bar should not.
+  mutable std::map<std::string, std::pair<int, double>> furthest;
   std::string engine_error;  // why the engine stopped on its own (empty while it runs)
   std::atomic<bool> stopping{false};
   std::thread engine;
@@ -237,7 +240,13 @@ struct FitJobs::Impl {
       const auto s = stages_of.find(key);
       return s == stages_of.end() ? std::string("all") : s->second;
     }();
-    const double progress = state == "done" ? 1.0 : state == "running" ? progress_of(stages, step) : 0.0;
+    double progress = state == "done" ? 1.0 : state == "running" ? progress_of(stages, step) : 0.0;
+    if (state == "running" && row) {
+      const std::lock_guard lock(mutex);
+      auto& [attempt, most] = furthest[key];
+      if (attempt != row->attempts) attempt = row->attempts, most = 0.0;
+      progress = most = std::max(most, progress);
+    }
     j["state"] = state;
     j["stage"] = state == "running" && row ? row->stage : "";
     j["step"] = step;

@@ -188,12 +188,14 @@ TEST_F(ServedFits, AFitIsFollowedOnItsEventStreamAndItsResultsAndReportsDownload
   EXPECT_EQ(events.back()["state"], "done") << events.back().dump();
   bool saw_swarm = false;
   std::set<double> progress;  // while running
+  double before = 0.0;
   for (const auto& e : events) {
     saw_swarm |= e["stage"] == "swarm";
     if (e["state"] == "running") {
-      EXPECT_GE(e["progress"].get<double>(), 0.0);
+      EXPECT_GE(e["progress"].get<double>(), before) << "a progress bar never goes back";
       EXPECT_LT(e["progress"].get<double>(), 1.0);
-      progress.insert(e["progress"].get<double>());
+      before = e["progress"].get<double>();
+      progress.insert(before);
     }
   }
   EXPECT_TRUE(saw_swarm);
