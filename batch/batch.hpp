@@ -90,6 +90,8 @@ class MpiScope {
   MpiScope& operator=(const MpiScope&) = delete;
   [[nodiscard]] int rank() const { return m_rank; }
   [[nodiscard]] int size() const { return m_size; }
+  // Ends every rank (rank 0 failed before the others could be told to stop).
+  [[noreturn]] void abort(int code);
 
  private:
   int m_rank = 0, m_size = 1;

@@ -176,7 +176,9 @@ void BatchRun::plan_fabric(const std::string& key, const db::FabricLoad& load, c
       // a moment so that it does not write beside the job's new run.
       const bool here_too = old->host == host_name();
       if (here_too) wait_for_exit(old->pid, 5.0);
-      const bool stale = here_too || age > m_options.stale_after;
+      // A fed batch (the service) holds DIR's lock for the whole folder: a job it finds running
+      // belongs to a run of it that is gone, wherever its rank ran.
+      const bool stale = here_too || own_options || age > m_options.stale_after;
       if (!stale) {
         m_summary.running_elsewhere.push_back(key + " (pid " + std::to_string(old->pid) + " on " + old->host +
                                               ", heartbeat " + db::format_g(age, 3) + " s ago)");

@@ -168,14 +168,21 @@ BatchSummary run_batch(const BatchOptions& options) {
     if (feed) follow_feed(run, children);
     while (g_stop_signal == 0 && run.has_queued() && static_cast<int>(children.size()) < run.options().jobs) {
       const JobSpec spec = run.next();
-      int fds[2];
-      if (::pipe2(fds, O_CLOEXEC) != 0) throw BatchError(std::string("cannot create a pipe: ") + std::strerror(errno));
+      int fds[2] = {-1, -1};
+      const bool piped = ::pipe2(fds, O_CLOEXEC) == 0;
       std::cout.flush();
       std::cerr.flush();
       std::fflush(nullptr);
       const pid_t parent = ::getpid();
-      const pid_t pid = ::fork();
-      if (pid < 0) throw BatchError(std::string("cannot start a fit process: ") + std::strerror(errno));
+      const pid_t pid = piped ? ::fork() : -1;
+      if (pid < 0) {
+        // Out of processes or descriptors for now: this fabric fails with the reason, the rest go on.
+        const std::string why = std::string("cannot start a fit process: ") + std::strerror(errno);
+        if (piped) ::close(fds[0]), ::close(fds[1]);
+        run.started(spec, host, 0);
+        run.finished(spec.fabric_id, {false, why});
+        continue;
+      }
       if (pid == 0) {
         ::close(fds[0]);
         child_main(spec, run.options(), fds[1], run.lock().fd(), parent);

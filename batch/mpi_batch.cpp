@@ -13,6 +13,8 @@
 // fabrics with dead processes, and the rerun takes them over from their checkpoints.
 #include "batch/batch.hpp"
 
+#include <cstdlib>
+
 #ifdef YARNFIT_HAVE_MPI
 
 #include <mpi.h>
@@ -21,6 +23,7 @@
 #include <chrono>
 #include <deque>
 #include <map>
+#include <set>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -95,16 +98,20 @@ BatchSummary coordinator(const BatchOptions& options, int size) {
   const BatchFeed& feed = options.feed;
   auto last_look = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   bool stopped = false;
+  // Cancelled while a rank fits them: a rank's fit cannot be stopped from here, so the job stays
+  // running (not to be started twice) and ends cancelled when the rank reports.
+  std::set<std::string> cancel_when_done;
   run.tick(true);
   for (;;) {
     if (feed && std::chrono::steady_clock::now() - last_look > std::chrono::milliseconds(250)) {
       last_look = std::chrono::steady_clock::now();
       if ((stopped = feed.stop && feed.stop())) break;
       for (const BatchFabric& f : feed.take()) run.add(f);
-      // A worker's fit cannot be stopped from here: it is recorded as cancelled now, and what
-      // the worker reports when it ends is dropped.
       if (feed.cancelled)
-        for (const std::string& key : feed.cancelled()) run.cancel(key, k_cancelled_by_owner);
+        for (const std::string& key : feed.cancelled()) {
+          if (run.is_running(key)) cancel_when_done.insert(key);
+          else run.cancel(key, k_cancelled_by_owner);
+        }
     }
     for (auto& [rank, w] : workers) {
       if (!w.fabric_id.empty() || !run.has_queued()) continue;
@@ -131,12 +138,18 @@ BatchSummary coordinator(const BatchOptions& options, int size) {
     } else if (status.MPI_TAG == k_tag_stage) {
       run.stage(j.value("fabric_id", ""), j.value("stage", ""));
     } else if (status.MPI_TAG == k_tag_outcome) {
-      run.finished(j.value("fabric_id", ""), job_outcome_from_message(j.value("outcome", "{}")));
+      const std::string id = j.value("fabric_id", "");
+      if (cancel_when_done.erase(id)) run.finished(id, {false, k_cancelled_by_owner});
+      else run.finished(id, job_outcome_from_message(j.value("outcome", "{}")));
       w.fabric_id.clear();
     }
     run.tick();
   }
-  for (const std::string& id : run.running_ids()) run.interrupted(id);  // stopped: queued for the next start
+  const std::vector<std::string> busy = run.running_ids();
+  for (const std::string& id : busy) run.interrupted(id);  // stopped: queued for the next start
+  // A rank inside a fit would read the stop only when the fit ends (hours): end them all now;
+  // their jobs are queued and resume from their checkpoints at the next start.
+  if (!busy.empty()) MPI_Abort(MPI_COMM_WORLD, 1);
   stop_workers(size);
   run.tick(true);
   return run.summary(stopped);
@@ -155,6 +168,11 @@ MpiScope::MpiScope() {
 }
 
 MpiScope::~MpiScope() { MPI_Finalize(); }
+
+void MpiScope::abort(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::abort();  // MPI_Abort does not return; its declaration does not say so
+}
 
 // MPI_Init_thread … MPI_Finalize around the run, unless the caller initialised MPI itself.
 class MpiSession {
@@ -206,6 +224,7 @@ BatchSummary run_batch_mpi(const BatchOptions&) {
 
 MpiScope::MpiScope() { throw BatchError("--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)"); }
 MpiScope::~MpiScope() = default;
+void MpiScope::abort(int) { std::abort(); }
 
 }  // namespace yarnfit::batch
 

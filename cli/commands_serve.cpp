@@ -93,7 +93,16 @@ int run_serve(const ServeArgs& a) {
       }
       o.jobs.mpi = true;
     }
-    service::FittingService server(a.data_dir, o);
+    std::optional<service::FittingService> started;
+    try {
+      started.emplace(a.data_dir, o);
+    } catch (const std::exception& e) {
+      if (!mpi) throw;
+      // The other ranks wait for work that will never come: end them with this one.
+      std::cerr << "serve: " << e.what() << "\n";
+      mpi->abort(k_exit_internal);
+    }
+    service::FittingService& server = *started;
     const int port = server.bind();
     std::cout << "yarnfit serve: " << a.data_dir << " on http://" << o.host << ":" << port
               << "/ (GET /healthz; the API under /api/v1 with 'Authorization: Bearer <token>'); fits on "

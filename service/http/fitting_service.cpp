@@ -3,6 +3,7 @@
 #include <httplib.h>
 
 #include <chrono>
+#include <map>
 #include <mutex>
 #include <thread>
 #include <type_traits>
@@ -76,6 +77,9 @@ struct FittingService::Impl {
   RequestMetrics metrics;
   httplib::Server http;
   std::vector<Route> registered;
+  std::mutex streams_mutex;  // the event streams open, by user and in all
+  std::map<std::string, int> streams_of;
+  int streams_open = 0;
   int port = 0;
 
   Impl(fs::path data_dir, ServiceOptions o)
@@ -202,12 +206,32 @@ struct FittingService::Impl {
     const std::string id = req.matches[1];
     const auto j = job(who, id);
     if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+    // A stream holds one of the server's threads until its job ends: a user's and everyone's
+    // open streams are bounded below the pool, so that streams cannot starve other requests.
     struct Stream {
+      Stream(Impl* s, std::string u) : service(s), user(std::move(u)) {}
+      Stream(const Stream&) = delete;
+      Stream& operator=(const Stream&) = delete;
+      Impl* service;
+      std::string user;
       std::string last;  // the job without its time figures, as last sent
       std::chrono::steady_clock::time_point sent{};
       int quiet = 0;
+      ~Stream() {
+        const std::lock_guard lock(service->streams_mutex);
+        --service->streams_of[user];
+        --service->streams_open;
+      }
     };
-    auto stream = std::make_shared<Stream>();
+    {
+      const std::lock_guard lock(streams_mutex);
+      if (streams_of[who.name] >= options.streams_per_user || streams_open >= options.streams)
+        return refuse(res, 429, "too many event streams open (" + std::to_string(options.streams_per_user) + " a user, " +
+                                    std::to_string(options.streams) + " in all); close one or poll the job");
+      ++streams_of[who.name];
+      ++streams_open;
+    }
+    auto stream = std::make_shared<Stream>(this, who.name);  // counted down when the stream ends
     res.set_header("Cache-Control", "no-store");
     res.set_chunked_content_provider("text/event-stream", [this, owner = j->first, id, stream](std::size_t, httplib::DataSink& sink) {
       const auto now = jobs.job(owner, id);

@@ -45,6 +45,9 @@ struct ServiceOptions {
   // An upload's whole body must arrive within this (408 otherwise): a client that trickles its
   // body a byte at a time never trips the read timeout above, which counts one silence.
   int upload_timeout_s = 120;
+  // Event streams open at once, a user's and everyone's (each holds one of 32 server threads).
+  int streams_per_user = 4;
+  int streams = 16;
 };
 
 // A route the server answers: its method and its path as docs/openapi.yaml writes it.

@@ -132,6 +132,7 @@ struct FitJobs::Impl {
   // can fall back (a stage's steps count towards a budget it rarely uses up), a bar should not.
   mutable std::map<std::string, std::pair<int, double>> furthest;
   std::string engine_error;  // why the engine stopped on its own (empty while it runs)
+  std::mutex start_mutex;    // serialises FitJobs::start (taken before `mutex`, never inside it)
   std::atomic<bool> stopping{false};
   std::thread engine;
 
@@ -326,6 +327,9 @@ JobAnswer FitJobs::start(const std::string& owner, const std::string& fabric_id,
     for (const auto& p : problems.items()) list.push_back(p.to_string());
     return {422, {{"error", "the fit cannot run as asked"}, {"problems", list}}};
   }
+  // From the check to the request kept and queued, one start at a time: two requests for one
+  // fabric, or past the limits together, would both pass the checks.
+  const std::lock_guard one_at_a_time(m_impl->start_mutex);
   if (const auto now = m_impl->find(key); now && ((*now)["state"] == "queued" || (*now)["state"] == "running"))
     return {409, {{"error", "a fit of '" + fabric_id + "' is " + (*now)["state"].get<std::string>()}, {"problems", json::array()}}};
   const auto [mine, all] = m_impl->active(owner);
@@ -360,9 +364,14 @@ JobAnswer FitJobs::cancel(const std::string& owner, const std::string& fabric_id
   for (int i = 0; i < 100; ++i) {
     const auto after = m_impl->find(key);
     if (after && (*after)["state"] == "cancelled") return {200, *after};
+    if (after && (*after)["state"] != "queued" && (*after)["state"] != "running")
+      return {409, {{"error", "the fit of '" + fabric_id + "' ended (" + (*after)["state"].get<std::string>() + ") first"},
+                    {"problems", json::array()}}};
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  return {202, *m_impl->find(key)};
+  if (const std::string why = engine_problem(); !why.empty())
+    return {503, {{"error", "fits cannot run now: " + why}, {"problems", json::array()}}};
+  return {202, *m_impl->find(key)};  // under MPI a rank's fit ends cancelled when the rank reports
 }
 
 std::string FitJobs::engine_problem() const {

@@ -139,8 +139,7 @@ class ServedFits : public ServedTest {
     YARNFIT_REQUIRE_SHARED(stockinette());
     ServedTest::SetUp();
   }
-  void serve_fits(FitJobsOptions jobs = {}) {
-    ServiceOptions o;
+  void serve_fits(FitJobsOptions jobs = {}, ServiceOptions o = {}) {
     jobs.threads_per_job = 1;
     o.jobs = jobs;
     serve(o);
@@ -283,6 +282,50 @@ TEST_F(ServedFits, PastTheUsersLimitA429AndACancelledFitMakesRoom) {
   EXPECT_EQ(wait_for(bob, "knit_a", ended, 600)["state"], "done");
   EXPECT_EQ(wait_for(ana, b, ended, 600)["state"], "done");
   EXPECT_EQ(body_of(ana.Get("/api/v1/jobs/" + a))["state"], "cancelled");
+}
+
+TEST_F(ServedFits, EventStreamsAreBoundedSoThatTheyCannotStarveTheServer) {
+  ServiceOptions o;
+  o.streams_per_user = 1;
+  serve_fits({}, o);
+  upload(m_ana, "knit_a");
+  upload(m_ana, "knit_b");
+  auto ana = as(m_ana);
+  ASSERT_EQ(ana.Post("/api/v1/fabrics/knit_a/fits", k_small.dump(), "application/json")->status, 202);
+  ASSERT_EQ(ana.Post("/api/v1/fabrics/knit_b/fits", k_small.dump(), "application/json")->status, 202);  // queued behind
+  // One stream open on knit_b (until it ends).
+  std::thread first([&] {
+    auto c = as(m_ana);
+    c.Get("/api/v1/jobs/knit_b/events", [](const char*, std::size_t) { return true; });
+  });
+  // A second stream of ana's is refused once the first is counted; the server answers all else.
+  int refused = 0;
+  for (int i = 0; i < 50 && refused == 0; ++i) {
+    int status = 0;
+    std::string body;
+    ana.Get(
+        "/api/v1/jobs/knit_a/events",
+        [&](const httplib::Response& r) {
+          status = r.status;
+          return r.status != 200;  // an accepted stream is left at once
+        },
+        [&](const char* data, std::size_t n) {
+          body.append(data, n);
+          return true;
+        });
+    if (status == 429) {
+      ++refused;
+      EXPECT_TRUE(contains(body, "too many event streams")) << body;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_EQ(refused, 1);
+  EXPECT_EQ(ana.Get("/api/v1/jobs/knit_a")->status, 200);
+  EXPECT_EQ(ana.Delete("/api/v1/jobs/knit_b")->status, 200);  // its stream ends with it
+  first.join();
+  // The count went down: a stream can be opened again.
+  EXPECT_EQ(wait_for(ana, "knit_a", ended, 600)["state"], "done");
+  EXPECT_EQ(ana.Get("/api/v1/jobs/knit_a/events")->status, 200);
 }
 
 // A free loopback port (bound, read, released: a race only with another process taking it).
