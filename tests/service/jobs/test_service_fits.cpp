@@ -150,6 +150,22 @@ class ServedFits : public ServedTest {
     EXPECT_TRUE(r && r->status == 201) << (r ? r->body : "no answer");
     return id;
   }
+  // The results of knit_a fitted with k_small by the service in this process, uninterrupted
+  // (empty when that fit did not end done); the service is stopped afterwards.
+  std::map<std::string, std::string> uninterrupted_reference() {
+    serve_fits();
+    upload(m_ana, "knit_a");
+    auto ana = as(m_ana);
+    const bool done = ana.Post("/api/v1/fabrics/knit_a/fits", k_small.dump(), "application/json")->status == 202 &&
+                      wait_for(ana, "knit_a", ended, 600)["state"] == "done";
+    stop();
+    return done ? results_of(m_dir, "ana/knit_a") : std::map<std::string, std::string>{};
+  }
+  // A user ana in another data folder; her token.
+  static std::string add_ana(const fs::path& data_dir) {
+    Accounts accounts(data_dir / "accounts.db");
+    return accounts.add_user("ana", false).token;
+  }
   fs::path m_dir = data();
 };
 
@@ -362,21 +378,12 @@ pid_t start_server(const fs::path& data, int port, const fs::path& log, const st
 
 TEST_F(ServedFits, AServerKilledInsideASwarmResumesToBitwiseTheUninterruptedResults) {
   // The reference: an uninterrupted fit in this process.
-  serve_fits();
-  upload(m_ana, "knit_a");
-  auto ana = as(m_ana);
-  ASSERT_EQ(ana.Post("/api/v1/fabrics/knit_a/fits", k_small.dump(), "application/json")->status, 202);
-  ASSERT_EQ(wait_for(ana, "knit_a", ended, 600)["state"], "done");
-  const auto reference = results_of(m_dir, "ana/knit_a");
-  stop();
+  const auto reference = uninterrupted_reference();
+  ASSERT_FALSE(reference.empty());
 
   // The same fit on a `yarnfit serve`, killed with SIGKILL once the swarm has checkpointed.
   ScratchDir other("served_killed");
-  std::string token;
-  {
-    Accounts accounts(other / "accounts.db");
-    token = accounts.add_user("ana", false).token;
-  }
+  const std::string token = add_ana(other.path());
   const int port = free_port();
   pid_t server = start_server(other.path(), port, other / "serve.log");
   auto c = client_on(port, token);
@@ -418,20 +425,11 @@ const std::string k_mpirun =
 
 TEST_F(ServedFits, UnderMpirunRankOneFitsWhatRankZeroServesWithTheSameResults) {
   if (!batch::mpi_available()) GTEST_SKIP() << "built without MPI";
-  serve_fits();
-  upload(m_ana, "knit_a");
-  auto ana = as(m_ana);
-  ASSERT_EQ(ana.Post("/api/v1/fabrics/knit_a/fits", k_small.dump(), "application/json")->status, 202);
-  ASSERT_EQ(wait_for(ana, "knit_a", ended, 600)["state"], "done");
-  const auto reference = results_of(m_dir, "ana/knit_a");
-  stop();
+  const auto reference = uninterrupted_reference();
+  ASSERT_FALSE(reference.empty());
 
   ScratchDir other("served_mpi");
-  std::string token;
-  {
-    Accounts accounts(other / "accounts.db");
-    token = accounts.add_user("ana", false).token;
-  }
+  const std::string token = add_ana(other.path());
   const int port = free_port();
   const pid_t server = start_server(other.path(), port, other / "serve.log", k_mpirun, " --mpi --threads-per-job 1");
   auto c = client_on(port, token);
