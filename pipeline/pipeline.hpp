@@ -78,17 +78,6 @@ struct PipelineResult {
   double seconds_total = 0.0;
 };
 
-// A record checked for the stages, with what they need read once: the yarn problem (no targets
-// yet) when the yarn stage runs on a tile that exists (a knit's tile to generate is made by the
-// run), and with Stages::yarn the targets file's targets. Empty `problems`: the stages can run.
-struct PreparedFit {
-  db::Fabric fabric;
-  std::optional<calibration::YarnFitProblem> yarn_problem;
-  std::optional<std::vector<db::DirectionTargets>> targets;
-  db::Problems problems;  // everything run_pipeline would refuse (pipeline_problems)
-};
-[[nodiscard]] PreparedFit prepare_fit(const db::Fabric& fabric, const PipelineOptions& options);
-
 // Everything run_pipeline would refuse for this fabric: the options' problems, the record's
 // (no pattern, no yarn stiffness, an unusable tile: only when the yarn stage runs), the start
 // file's and the targets file's. Fast: no simulation.
@@ -100,8 +89,6 @@ struct PreparedFit {
 // result; with Stages::yarn there is no shell result). Never throws for bad input or a failed fit:
 // the status says.
 PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options);
-// The same on a prepared record (what prepare_fit read is not read again).
-PipelineResult run_prepared(PreparedFit prepared, const PipelineOptions& options);
 // The same on the record in `fabric_folder` (read and validated first; its problems are the
 // result's when it is invalid).
 PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const PipelineOptions& options);

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "fabrics_db/records/fabric_reader.hpp"
+#include "pipeline/stage_plan.hpp"
 #include "reports/report.hpp"
 
 namespace yarnfit::pipeline {
@@ -22,21 +23,22 @@ PipelineOptions stage_options(const FitPlan& plan, const std::string& fabric_id,
   return o;
 }
 
-// The record `load` prepared for the stages; its problems are everything that refuses the plan
-// (the record's, the stages' with these `options`, every output file in the way).
-std::optional<PreparedFit> prepare(const FitPlan& plan, const db::FabricLoad& load, const PipelineOptions& options,
-                                   db::Problems& problems) {
-  std::optional<PreparedFit> prepared;
+// The plan's stages on the record `load` read, checked: `problems` gets everything that
+// refuses the plan (the record's, each stage's with these `options`, every output file in the
+// way). No state when the record could not be read.
+std::optional<PlanState> checked_state(const FitPlan& plan, const db::FabricLoad& load, const PipelineOptions& options,
+                                       const StagePlan& stages, db::Problems& problems) {
+  std::optional<PlanState> state;
   problems.append(load.problems);
   if (load.ok()) {
-    prepared = prepare_fit(*load.fabric, options);
-    problems.append(prepared->problems);
+    state = new_plan_state(*load.fabric, options);
+    stages.check(*state, problems);
   } else {
     problems.append(options.problems());
   }
   problems.append(output_problems(plan.out, output_files(plan.options.stages), plan.overwrite));
   if (plan.report) problems.append(output_problems(plan.out, report_files(), plan.overwrite));
-  return prepared;
+  return state;
 }
 
 // The report stage: out/report/ from the files just written.
@@ -63,22 +65,20 @@ const char* to_string(Stage stage) {
 db::Problems check_plan(const FitPlan& plan) {
   const db::FabricLoad load = db::load_fabric(plan.fabric);
   db::Problems problems;
-  (void)prepare(plan, load, stage_options(plan, load.id, {}), problems);
+  (void)checked_state(plan, load, stage_options(plan, load.id, {}), StagePlan(plan.options.stages), problems);
   return problems;
 }
 
 PlanResult run_plan(const FitPlan& plan, const PlanObserver& observer, db::Problems problems) {
   PlanResult result;
   const db::FabricLoad load = db::load_fabric(plan.fabric);
-  const PipelineOptions options = stage_options(plan, load.id, observer);
-  std::optional<PreparedFit> prepared = prepare(plan, load, options, problems);
+  const StagePlan stages(plan.options.stages);
+  std::optional<PlanState> state = checked_state(plan, load, stage_options(plan, load.id, observer), stages, problems);
   if (!problems.empty()) {
-    result.fit.status = PipelineStatus::invalid_input;
-    result.fit.message = "invalid input: nothing was run";
-    result.fit.problems = std::move(problems);
+    refuse(result.fit, std::move(problems));
     return result;
   }
-  result.fit = run_prepared(std::move(*prepared), options);
+  result.fit = stages.run(std::move(*state));
   if (result.fit.status == PipelineStatus::invalid_input) return result;
   try {
     result.outputs = write_outputs(result.fit, plan.out);

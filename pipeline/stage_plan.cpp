@@ -1,0 +1,154 @@
+#include "pipeline/stage_plan.hpp"
+
+#include <stdexcept>
+
+#include "calibration/problem/generated_pattern.hpp"
+#include "fabrics_db/targets/uniform_targets.hpp"
+
+namespace yarnfit::pipeline {
+
+namespace {
+
+using numerics::Clock;
+using numerics::seconds_since;
+
+// The yarn problem of the fabric (no targets yet) from the start file when there is one.
+std::optional<calibration::YarnFitProblem> yarn_problem(const db::Fabric& fabric, const PipelineOptions& options,
+                                                        db::Problems& problems) {
+  auto problem = calibration::make_yarn_fit_problem(fabric, problems);
+  if (problem && !options.start.empty())
+    calibration::read_start(*problem, options.start, options.yarn.linear_stretch, problems);
+  return problem;
+}
+
+// A record whose pattern is a knit whose tile must be generated before the yarn fit.
+bool tile_to_generate(const db::Fabric& fabric) {
+  return fabric.pattern && fabric.pattern->knit && !fabric.pattern->has_tile();
+}
+
+// tile: a knit's tile generated (kept in options.tile_cache) and the yarn problem made on it.
+// It runs before the shell fit, so that a tile that cannot be made costs no fit.
+class TileStage final : public PlanStage {
+ public:
+  void check(PlanState& state, db::Problems& problems) const override {
+    if (!tile_to_generate(state.fabric)) return;
+    if (state.options.tile_cache.empty())
+      problems.add("", 0, "tile_cache", "the pattern is a knit to generate: say where generated tiles are kept");
+    calibration::check_yarn_stiffness(state.fabric, problems);
+  }
+  bool run(PlanState& state) const override {
+    if (!tile_to_generate(state.fabric)) return true;
+    db::Problems problems;
+    if (calibration::make_generated_pattern(state.fabric, state.options.tile_cache, problems))
+      state.result.yarn_problem = yarn_problem(state.fabric, state.options, problems);
+    if (problems.empty()) return true;
+    refuse(state.result, std::move(problems));
+    return false;
+  }
+};
+
+// shell: the shell fit and its uniform targets. A model that is usable but did not converge
+// goes on (the message says why); an unusable one ends the plan.
+class ShellStage final : public PlanStage {
+ public:
+  void check(PlanState& state, db::Problems& problems) const override {
+    problems.append(shell_option_problems(state.options));
+  }
+  bool run(PlanState& state) const override {
+    PipelineResult& result = state.result;
+    result.shell = shell::fit_shell(state.fabric, state.options.shell);
+    result.seconds_shell = seconds_since(state.start);
+    if (!result.shell->converged()) result.message = result.shell->failure();
+    result.status = result.shell->usable() ? PipelineStatus::ok : PipelineStatus::shell_failed;
+    return result.shell->usable();
+  }
+};
+
+// targets: what the yarn fit fits, the shell stage's in memory (as uniform_targets.csv holds
+// them) or, with Stages::yarn, the targets file's (read by the check).
+class TargetsStage final : public PlanStage {
+ public:
+  void check(PlanState& state, db::Problems& problems) const override {
+    if (state.options.stages != Stages::yarn) return;
+    if (state.options.targets.empty()) problems.add("", 0, "targets", "the yarn stage alone needs a targets file");
+    else state.file_targets = db::read_uniform_targets(state.options.targets, problems);
+  }
+  bool run(PlanState& state) const override {
+    auto& problem = *state.result.yarn_problem;
+    if (state.result.shell) {
+      problem.targets = state.result.shell->targets;
+    } else {
+      problem.targets = std::move(state.file_targets).value_or(std::vector<db::DirectionTargets>{});
+      problem.targets_source = state.options.targets.string();
+    }
+    return true;
+  }
+};
+
+// yarn: the yarn fit on the targets. Targets it cannot fit fail it (or, from a file, refuse
+// the input: they were the user's).
+class YarnStage final : public PlanStage {
+ public:
+  void check(PlanState& state, db::Problems& problems) const override {
+    problems.append(yarn_option_problems(state.options));
+    if (!tile_to_generate(state.fabric)) state.result.yarn_problem = yarn_problem(state.fabric, state.options, problems);
+  }
+  bool run(PlanState& state) const override {
+    const auto yarn_start = Clock::now();
+    PipelineResult& result = state.result;
+    try {
+      result.yarn = calibration::fit_yarn(*result.yarn_problem, state.options.yarn);
+      result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
+      result.message = result.yarn->ok ? std::string() : "yarn fit failed: " + result.yarn->message;
+    } catch (const std::invalid_argument& e) {
+      // The settings were checked: the targets cannot be fitted.
+      const std::string& file = state.options.targets.string();
+      result.status = result.shell ? PipelineStatus::yarn_failed : PipelineStatus::invalid_input;
+      result.message = (result.shell ? "the shell stage's uniform targets" : file) + ": " + e.what();
+      if (!result.shell) result.problems.add(file, 0, "targets", e.what());
+    }
+    result.seconds_yarn = seconds_since(yarn_start);
+    return result.status == PipelineStatus::ok;
+  }
+};
+
+}  // namespace
+
+PlanState new_plan_state(const db::Fabric& fabric, const PipelineOptions& options) {
+  PlanState state{options, fabric, Clock::now(), std::nullopt, {}};
+  PipelineResult& result = state.result;
+  result.fabric_id = fabric.id;
+  result.fabric_folder = fabric.folder;
+  result.yarn_settings = options.yarn;
+  result.stages = options.stages;
+  return state;
+}
+
+void refuse(PipelineResult& result, db::Problems problems) {
+  result.status = PipelineStatus::invalid_input;
+  result.message = "invalid input: nothing was run";
+  result.problems = std::move(problems);
+  result.yarn_problem.reset();
+}
+
+StagePlan::StagePlan(Stages stages) {
+  if (runs_yarn(stages)) m_stages.push_back(std::make_unique<TileStage>());
+  if (runs_shell(stages)) m_stages.push_back(std::make_unique<ShellStage>());
+  if (runs_yarn(stages)) {
+    m_stages.push_back(std::make_unique<TargetsStage>());
+    m_stages.push_back(std::make_unique<YarnStage>());
+  }
+}
+
+void StagePlan::check(PlanState& state, db::Problems& problems) const {
+  for (const auto& stage : m_stages) stage->check(state, problems);
+}
+
+PipelineResult StagePlan::run(PlanState state) const {
+  for (const auto& stage : m_stages)
+    if (!stage->run(state)) break;
+  state.result.seconds_total = seconds_since(state.start);
+  return std::move(state.result);
+}
+
+}  // namespace yarnfit::pipeline
