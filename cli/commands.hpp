@@ -37,6 +37,8 @@ void add_batch_commands(CLI::App& app, int& exit_code);
 void add_tile_commands(CLI::App& app, int& exit_code);
 // `report` (cli/commands_report.cpp).
 void add_report_command(CLI::App& app, int& exit_code);
+// `export` (cli/commands_export.cpp).
+void add_export_command(CLI::App& app, int& exit_code);
 // `serve user` (cli/commands_serve.cpp): the fitting service's accounts.
 void add_serve_commands(CLI::App& app, int& exit_code);
 // Runs `write` (a synth command writing a fabric record into `out`) and turns what it throws

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   add_batch_commands(app, exit_code);
   add_report_command(app, exit_code);
   add_tile_commands(app, exit_code);
+  add_export_command(app, exit_code);
   add_serve_commands(app, exit_code);
   try {
     app.parse(argc, argv);

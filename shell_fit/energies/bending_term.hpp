@@ -72,7 +72,7 @@ class BendingTerm final : public numerics::EnergyTerm {
   struct Edge {
     std::array<int, 4> v{0, 0, 0, 0};        // x0, x1 (the edge, CCW in t0), a, b
     double rest_height = 0.0;                // H = (h_a + h_b)/2 [m]
-    double area = 0.0;                       // A_e = (A_t0 + A_t1)/3 [m²]
+    double area = 0.0;                       // A_e = A_t0 + A_t1 [m²]
     double rest_angle = 0.0;                 // edge direction − material angle [rad]
     std::array<double, 3> weights{0, 0, 0};  // k_θ(e) = Σ_j weights[j] k_j
     double ktheta = 0.0;                     // current k_θ(e) [N·m]

@@ -1,0 +1,57 @@
+// yarnfit export FIT_DIR --format arcsim --out PATH: a fitted fabric in another simulator's
+// format (SPEC §5; exports/export_fit.hpp does the work).
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.hpp"
+#include "exports/export_fit.hpp"
+#include "exports/fitted_fabric.hpp"
+
+namespace yarnfit::cli {
+
+namespace {
+
+struct ExportArgs {
+  std::string fit_dir, format, out, record;
+  std::optional<double> areal_density_gsm;
+  bool force = false;
+};
+
+int run_export(const ExportArgs& a) {
+  exports::ExportRequest r;
+  r.fit_dir = a.fit_dir;
+  r.format = *exports::export_format_from_string(a.format);
+  r.out = a.out;
+  r.record = a.record;
+  r.overwrite = a.force;
+  r.areal_density_gsm = a.areal_density_gsm;
+  try {
+    std::cout << exports::export_fit(r).text;
+  } catch (const exports::ExportError& e) {
+    std::cerr << "export: " << e.what() << "\n";
+    return k_exit_invalid_input;
+  } catch (const std::exception& e) {
+    std::cerr << "export: " << a.out << ": " << e.what() << "\n";
+    return k_exit_internal;
+  }
+  return k_exit_ok;
+}
+
+}  // namespace
+
+void add_export_command(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<ExportArgs>();
+  auto* e = app.add_subcommand(
+      "export", "A fitted fabric in another simulator's format: arcsim, ARCSim's material data file (Wang et al. "
+                "2011's model) sampled from the fitted shell law, with how far its uniaxial force strays from the "
+                "law over the comfort range (docs/exports.md)");
+  e->add_option("FIT_DIR", a->fit_dir, "A `yarnfit fit` output folder or a batch fabric folder")->required();
+  e->add_option("--format", a->format, "arcsim")->required()->check(CLI::IsMember({"arcsim"}));
+  e->add_option("-o,--out", a->out, "The file to write (arcsim: a .json)")->required();
+  e->add_option("--record", a->record, "The fabric's record folder: its areal density (ARCSim needs it)");
+  e->add_option("--areal-density-gsm", a->areal_density_gsm, "The fabric's areal density [g/m^2], when its record has none");
+  e->add_flag("--force", a->force, "Replace the output when it exists");
+  e->callback([a, &exit_code] { exit_code = run_export(*a); });
+}
+
+}  // namespace yarnfit::cli

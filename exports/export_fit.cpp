@@ -1,0 +1,69 @@
+#include "exports/export_fit.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "exports/arcsim_material.hpp"
+#include "exports/fitted_fabric.hpp"
+#include "fabrics_db/text_util.hpp"
+
+namespace yarnfit::exports {
+
+namespace {
+
+std::string percent(double v) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f %%", v);
+  return buf;
+}
+
+ExportOutcome export_arcsim(const FittedFabric& fabric, const std::filesystem::path& out) {
+  const ArcsimMaterial material = arcsim_material(fabric);
+  const std::vector<ArcsimDeviation> deviation = arcsim_deviation(fabric, material);
+  db::write_text_file_atomically(out, arcsim_json(fabric, material, deviation).dump(2) + "\n");
+  ExportOutcome o;
+  o.files.push_back(out);
+  o.text = "ARCSim material of " + fabric.shell.fabric + " written to " + out.string() + "\n" +
+           "uniaxial force, ARCSim's model against the fitted law over the comfort range (goal <= " +
+           percent(k_arcsim_goal_pct) + " mean):\n";
+  for (const auto& d : deviation) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-5s to stretch %.3f: mean %s, largest %s%s\n", d.direction.c_str(),
+                  d.comfort_stretch, percent(d.mean_pct).c_str(), percent(d.max_pct).c_str(),
+                  std::isfinite(d.mean_pct) && d.mean_pct <= k_arcsim_goal_pct ? "" : "  (goal missed)");
+    o.text += line;
+  }
+  return o;
+}
+
+}  // namespace
+
+std::optional<ExportFormat> export_format_from_string(std::string_view name) {
+  if (name == "arcsim") return ExportFormat::arcsim;
+  return std::nullopt;
+}
+
+const char* to_string(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::arcsim: break;
+  }
+  return "arcsim";
+}
+
+ExportOutcome export_fit(const ExportRequest& request) {
+  if (!request.overwrite && std::filesystem::exists(request.out))
+    throw ExportError(request.out.string() + ": exists (use --force to replace it)");
+  FittedFabric fabric = read_fitted_fabric(request.fit_dir, request.record);
+  if (request.areal_density_gsm) {
+    if (!(*request.areal_density_gsm > 0.0)) throw ExportError("areal_density_gsm: must be positive");
+    fabric.areal_density = *request.areal_density_gsm * 1e-3;
+  }
+  if (request.out.has_parent_path()) std::filesystem::create_directories(request.out.parent_path());
+  switch (request.format) {
+    case ExportFormat::arcsim: break;
+  }
+  return export_arcsim(fabric, request.out);
+}
+
+}  // namespace yarnfit::exports

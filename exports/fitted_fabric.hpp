@@ -1,0 +1,53 @@
+#pragma once
+// What an export takes from a fit folder (a `yarnfit fit` output or a batch fabric folder):
+// the fitted shell law of shell_fit.json, the yarn fit when that stage ran, and the figures of
+// the record that the formats carry beside the law (areal density).
+//
+//   const exports::FittedFabric f = exports::read_fitted_fabric("out/demo", "examples/fabrics/stockinette_demo");
+//   const shell::InplaneMaterial law(f.params.inplane, 0.0);
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "results/shell_fit_file.hpp"
+#include "results/yarn_fit_file.hpp"
+#include "shell_fit/core/shell_params.hpp"
+
+namespace yarnfit::exports {
+
+// A folder that cannot be exported: its message names the folder or file and why (a fit that
+// failed says its reason). The command answers it with exit 2.
+class ExportError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct FittedFabric {
+  std::filesystem::path folder;
+  results::ShellFitFile shell;  // shell_fit.json
+  shell::InplaneModel model = shell::InplaneModel::thesis;
+  shell::ShellParams params;  // the fitted law (absent lock-up terms are zero)
+  std::optional<results::YarnFitFile> yarn;  // yarn_fit.json, when the yarn stage ran and succeeded
+  std::string record;                        // the record folder, when given
+  std::optional<double> areal_density;       // [kg/m²], from the record
+};
+
+// The fit in `fit_dir`; `record` (may be empty) is the fabric's record folder, read for its
+// areal density. Throws ExportError: no such folder, no shell_fit.json (with only yarn_fit.json:
+// the yarn stage ran alone, so there is no shell law to export), a shell fit that failed, a
+// record that cannot be read.
+[[nodiscard]] FittedFabric read_fitted_fabric(const std::filesystem::path& fit_dir,
+                                              const std::filesystem::path& record = {});
+
+// The stretch up to which a format is held to the fitted law in `direction`: where the law's
+// uniaxial line force reaches the comfort limit (33.3 N/m, SPEC §3), at most the end of that
+// direction's fitted range.
+[[nodiscard]] double comfort_stretch(const FittedFabric& fabric, const std::string& direction);
+// The same along any pull angle [rad] from the weft: the fitted range's end interpolated
+// linearly in angle between the tested directions (held beyond the first and the last).
+[[nodiscard]] double comfort_stretch_at(const FittedFabric& fabric, double angle);
+inline constexpr double k_comfort_line_force = 2.0 / 0.06;  // 2 N on the thesis's 6 cm swatch [N/m]
+
+}  // namespace yarnfit::exports
