@@ -5,6 +5,7 @@
 
 #include "exports/arcsim_material.hpp"
 #include "exports/fitted_fabric.hpp"
+#include "exports/strain_table.hpp"
 #include "fabrics_db/text_util.hpp"
 
 namespace yarnfit::exports {
@@ -37,18 +38,39 @@ ExportOutcome export_arcsim(const FittedFabric& fabric, const std::filesystem::p
   return o;
 }
 
+ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::path& out) {
+  const StrainTable table = strain_table(fabric);
+  std::filesystem::create_directories(out);
+  ExportOutcome o;
+  const auto write = [&](const std::string& name, const std::string& text) {
+    db::write_text_file_atomically(out / name, text);
+    o.files.push_back(out / name);
+  };
+  write("stress.csv", stress_csv(table));
+  write("uniaxial.csv", uniaxial_csv(table));
+  write("bending.csv", bending_csv(table));
+  write("table.json", table_json(fabric, table).dump(1) + "\n");
+  o.text = "strain table of " + fabric.shell.fabric + " written to " + out.string() + ": stress.csv (" +
+           std::to_string(table.stress.size()) + " strains), uniaxial.csv (" + std::to_string(table.uniaxial.size()) +
+           " rows" + (table.yarn_reason.empty() ? ", shell and yarn" : ", shell only: " + table.yarn_reason) +
+           "), bending.csv, table.json\n";
+  return o;
+}
+
 }  // namespace
 
 std::optional<ExportFormat> export_format_from_string(std::string_view name) {
   if (name == "arcsim") return ExportFormat::arcsim;
+  if (name == "table") return ExportFormat::table;
   return std::nullopt;
 }
 
 const char* to_string(ExportFormat format) {
   switch (format) {
-    case ExportFormat::arcsim: break;
+    case ExportFormat::arcsim: return "arcsim";
+    case ExportFormat::table: break;
   }
-  return "arcsim";
+  return "table";
 }
 
 ExportOutcome export_fit(const ExportRequest& request) {
@@ -61,9 +83,10 @@ ExportOutcome export_fit(const ExportRequest& request) {
   }
   if (request.out.has_parent_path()) std::filesystem::create_directories(request.out.parent_path());
   switch (request.format) {
-    case ExportFormat::arcsim: break;
+    case ExportFormat::arcsim: return export_arcsim(fabric, request.out);
+    case ExportFormat::table: break;
   }
-  return export_arcsim(fabric, request.out);
+  return export_table(fabric, request.out);
 }
 
 }  // namespace yarnfit::exports

@@ -111,20 +111,23 @@ double comfort_stretch(const FittedFabric& fabric, const std::string& direction)
   return 0.0;
 }
 
-double comfort_stretch_at(const FittedFabric& fabric, double angle) {
+double fitted_range_end(const FittedFabric& fabric, double angle) {
   std::vector<std::pair<double, double>> ends;  // (angle, fitted range's end), by angle
   for (const auto& d : fabric.shell.directions)
     if (const auto dir = db::parse_direction(d.direction)) ends.emplace_back(db::pull_angle(*dir), d.fitted_max_stretch);
   std::sort(ends.begin(), ends.end());
   if (ends.empty()) return 0.0;
-  double end = ends.front().second;
-  if (angle >= ends.back().first) end = ends.back().second;
+  if (angle <= ends.front().first) return ends.front().second;
   for (std::size_t i = 1; i < ends.size(); ++i)
-    if (angle >= ends[i - 1].first && angle <= ends[i].first) {
+    if (angle <= ends[i].first) {
       const double t = (angle - ends[i - 1].first) / (ends[i].first - ends[i - 1].first);
-      end = (1.0 - t) * ends[i - 1].second + t * ends[i].second;
+      return (1.0 - t) * ends[i - 1].second + t * ends[i].second;
     }
-  return comfort_end(fabric.params.inplane, angle, end);
+  return ends.back().second;
+}
+
+double comfort_stretch_at(const FittedFabric& fabric, double angle) {
+  return comfort_end(fabric.params.inplane, angle, fitted_range_end(fabric, angle));
 }
 
 }  // namespace yarnfit::exports

@@ -45,9 +45,11 @@ struct FittedFabric {
 // uniaxial line force reaches the comfort limit (33.3 N/m, SPEC §3), at most the end of that
 // direction's fitted range.
 [[nodiscard]] double comfort_stretch(const FittedFabric& fabric, const std::string& direction);
-// The same along any pull angle [rad] from the weft: the fitted range's end interpolated
-// linearly in angle between the tested directions (held beyond the first and the last).
+// The same along any pull angle [rad] from the weft, at most fitted_range_end(angle).
 [[nodiscard]] double comfort_stretch_at(const FittedFabric& fabric, double angle);
+// The end of the fitted stretch range along a pull angle [rad] from the weft: the tested
+// directions' interpolated linearly in angle (held beyond the first and the last).
+[[nodiscard]] double fitted_range_end(const FittedFabric& fabric, double angle);
 inline constexpr double k_comfort_line_force = 2.0 / 0.06;  // 2 N on the thesis's 6 cm swatch [N/m]
 
 }  // namespace yarnfit::exports
