@@ -12,7 +12,7 @@
 #include <set>
 #include <thread>
 
-#include "batch/fabric_hash.hpp"
+#include "fabrics_db/records/fabric_hash.hpp"
 #include "fabrics_db/records/database.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
@@ -144,7 +144,7 @@ void BatchRun::plan_fabric(const std::string& key, const db::FabricLoad& load, c
   row.fabric_id = key;
   row.family = load.family;
   row.folder = load.folder.string();
-  row.hash = fabric_hash(load, options_json);
+  row.hash = db::fabric_hash(load, options_json);
   row.options = options_json.dump();
   const std::optional<JobRow> old = m_ledger.job(key);
   if (old) row.attempts = old->attempts;

@@ -7,7 +7,7 @@
 #include <array>
 #include <chrono>
 
-#include "batch/sha256.hpp"
+#include "fabrics_db/records/sha256.hpp"
 #include "batch/sqlite_statement.hpp"
 
 namespace yarnfit::service {
@@ -104,7 +104,7 @@ IssuedToken Accounts::issue(const std::string& name) {
   const std::string id = hex(random_bytes(8));
   const std::string secret = base64url(random_bytes(32));  // 256 bits
   Statement s(m_db, m_file, "UPDATE users SET token_id = ?1, secret_sha256 = ?2, revoked = 0 WHERE name = ?3");
-  s.bind(1, id).bind(2, batch::sha256_hex(secret)).bind(3, name).run();
+  s.bind(1, id).bind(2, db::sha256_hex(secret)).bind(3, name).run();
   return {*find(name), std::string(k_prefix) + id + "_" + secret};
 }
 
@@ -144,7 +144,7 @@ std::optional<Account> Accounts::authenticate(std::string_view token) const {
       token[k_prefix.size() + 16] != '_')
     return std::nullopt;
   const std::string id(token.substr(k_prefix.size(), 16));
-  const std::string presented = batch::sha256_hex(token.substr(k_prefix.size() + 17));
+  const std::string presented = db::sha256_hex(token.substr(k_prefix.size() + 17));
   Statement s(m_db, m_file, "SELECT name, admin, revoked, created, secret_sha256 FROM users WHERE token_id = ?1");
   s.bind(1, id);
   if (!s.step()) return std::nullopt;

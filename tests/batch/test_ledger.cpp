@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "batch/batch_options.hpp"
-#include "batch/fabric_hash.hpp"
+#include "fabrics_db/records/fabric_hash.hpp"
 #include "batch/ledger.hpp"
 #include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
@@ -93,7 +93,7 @@ TEST(FabricHash, ChangesWithTheRecordItsCurvesAndTheOptionsButNotWithThreads) {
   const fs::path fabric = dir / "demo";
   fs::copy(bundled_example_folder(), fabric, fs::copy_options::recursive);
   pipeline::PipelineOptions o;
-  const auto hash = [&] { return batch::fabric_hash(db::load_fabric(fabric), batch::fit_options_json(o)); };
+  const auto hash = [&] { return db::fabric_hash(db::load_fabric(fabric), batch::fit_options_json(o)); };
   const std::string h0 = hash();
   EXPECT_EQ(h0.size(), 64u);
   EXPECT_EQ(hash(), h0);
@@ -129,7 +129,7 @@ TEST(FabricHash, IsTheDigestEarlierLedgersHold) {
   write_file(fabric / "notes" / "readme.txt", std::string("a line\nand a second, with a NUL: \0 and the end\n", 47));
   const db::FabricLoad load = db::load_fabric(fabric);
   ASSERT_FALSE(load.fabric);
-  EXPECT_EQ(batch::fabric_hash(load, nlohmann::json{{"particles", 64}}),
+  EXPECT_EQ(db::fabric_hash(load, nlohmann::json{{"particles", 64}}),
             "c25235a4903fc2f398d948bd7b0e9d23a1d654600434ae7a74083888444bdd31");
 }
 

@@ -10,24 +10,24 @@
 #include <memory>
 #include <random>
 
-#include "batch/sha256.hpp"
+#include "fabrics_db/records/sha256.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::testing {
 namespace {
 
 TEST(Sha256, MatchesTheFips180Examples) {
-  EXPECT_EQ(batch::sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  EXPECT_EQ(batch::sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_EQ(batch::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+  EXPECT_EQ(db::sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(db::sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(db::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(batch::sha256_hex(std::string(1000000, 'a')),
+  EXPECT_EQ(db::sha256_hex(std::string(1000000, 'a')),
             "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
 TEST(Sha256, IncrementalUpdatesGiveTheOneShotDigest) {
   // A million 'a' in uneven pieces: block boundaries fall inside update calls.
-  batch::Sha256 h;
+  db::Sha256 h;
   const std::string piece(997, 'a');
   std::size_t left = 1000000;
   while (left > 0) {
@@ -40,9 +40,9 @@ TEST(Sha256, IncrementalUpdatesGiveTheOneShotDigest) {
   std::mt19937 rng(7);
   std::string bytes(300, '\0');
   for (char& c : bytes) c = static_cast<char>(rng() & 0xff);
-  const std::string whole = batch::sha256_hex(bytes);
+  const std::string whole = db::sha256_hex(bytes);
   for (std::size_t cut = 0; cut <= 130; ++cut) {
-    batch::Sha256 parts;
+    db::Sha256 parts;
     parts.update(std::string_view(bytes).substr(0, cut));
     parts.update("");
     parts.update(std::string_view(bytes).substr(cut));
@@ -59,7 +59,7 @@ TEST(Sha256, DigestOfAFileIsTheOneSha256sumPrints) {
   for (char& c : bytes) c = static_cast<char>(rng() & 0xff);
   write_file(file, bytes);
 
-  batch::Sha256 h;
+  db::Sha256 h;
   const std::string text = read_file(file);
   ASSERT_EQ(text, bytes);
   for (std::size_t at = 0; at < text.size(); at += 4096) h.update(std::string_view(text).substr(at, 4096));
@@ -76,11 +76,11 @@ TEST(Sha256, DigestOfAFileIsTheOneSha256sumPrints) {
 }
 
 TEST(Sha256, UseAfterTheDigestThrows) {
-  batch::Sha256 h;
+  db::Sha256 h;
   h.update("abc");
   EXPECT_EQ(h.hex_digest(), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_THROW(h.update("d"), batch::Sha256Error);
-  EXPECT_THROW((void)h.hex_digest(), batch::Sha256Error);
+  EXPECT_THROW(h.update("d"), db::Sha256Error);
+  EXPECT_THROW((void)h.hex_digest(), db::Sha256Error);
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 
 #include "tests/test_support.hpp"
 
-#include "batch/sha256.hpp"
+#include "fabrics_db/records/sha256.hpp"
 #include "service/accounts/accounts.hpp"
 
 namespace yarnfit::service {
@@ -66,7 +66,7 @@ TEST(Accounts, TheDatabaseHoldsOnlyTheSecretsHash) {
     if (std::filesystem::exists(dir / ("accounts.db" + std::string(side)))) bytes += read_file(dir / ("accounts.db" + std::string(side)));
   EXPECT_EQ(bytes.find(secret), std::string::npos);
   EXPECT_EQ(bytes.find(token), std::string::npos);
-  EXPECT_NE(bytes.find(batch::sha256_hex(secret)), std::string::npos);
+  EXPECT_NE(bytes.find(db::sha256_hex(secret)), std::string::npos);
   // Reopened, the token still works.
   Accounts reopened(dir / "accounts.db");
   ASSERT_TRUE(reopened.authenticate(token));

@@ -1,7 +1,7 @@
 #pragma once
-// SHA-256 (FIPS 180-4) through OpenSSL's EVP interface, for the batch ledger's fingerprints of
-// fabric records: a changed byte in a record, its curves, its tile or the fit options gives a
-// different hash, so the fabric is fitted again. Not used for anything secret.
+// SHA-256 (FIPS 180-4) through OpenSSL's EVP interface: fingerprints of fabric records
+// (fabric_hash.hpp: the batch ledger's, an export's provenance) and the service's stored
+// token hashes (of 256-bit random secrets).
 
 #include <memory>
 #include <stdexcept>
@@ -10,7 +10,7 @@
 
 struct evp_md_ctx_st;  // OpenSSL's EVP_MD_CTX, kept out of the includers of this header
 
-namespace yarnfit::batch {
+namespace yarnfit::db {
 
 // Thrown when OpenSSL fails (out of memory, a digest used after hex_digest); the message names
 // the step and carries OpenSSL's own reason.
@@ -37,4 +37,4 @@ class Sha256 {
 
 [[nodiscard]] std::string sha256_hex(std::string_view bytes);
 
-}  // namespace yarnfit::batch
+}  // namespace yarnfit::db

@@ -1,11 +1,11 @@
-#include "batch/sha256.hpp"
+#include "fabrics_db/records/sha256.hpp"
 
 #include <openssl/err.h>
 #include <openssl/evp.h>
 
 #include <array>
 
-namespace yarnfit::batch {
+namespace yarnfit::db {
 
 namespace {
 
@@ -57,4 +57,4 @@ std::string sha256_hex(std::string_view bytes) {
   return h.hex_digest();
 }
 
-}  // namespace yarnfit::batch
+}  // namespace yarnfit::db

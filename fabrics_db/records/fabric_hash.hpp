@@ -10,11 +10,11 @@
 
 #include "fabrics_db/records/fabric_reader.hpp"
 
-namespace yarnfit::batch {
+namespace yarnfit::db {
 
 // For a valid record, its fabric.yaml and the files it names; for an invalid one (which
 // names no usable files), every file in its folder. Unreadable files count by their name
 // and the reason they cannot be read.
 [[nodiscard]] std::string fabric_hash(const db::FabricLoad& load, const nlohmann::json& options);
 
-}  // namespace yarnfit::batch
+}  // namespace yarnfit::db

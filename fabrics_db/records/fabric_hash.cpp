@@ -1,13 +1,13 @@
-#include "batch/fabric_hash.hpp"
+#include "fabrics_db/records/fabric_hash.hpp"
 
 #include <algorithm>
 #include <filesystem>
 #include <vector>
 
-#include "batch/sha256.hpp"
+#include "fabrics_db/records/sha256.hpp"
 #include "fabrics_db/text_util.hpp"
 
-namespace yarnfit::batch {
+namespace yarnfit::db {
 
 namespace fs = std::filesystem;
 
@@ -61,4 +61,4 @@ std::string fabric_hash(const db::FabricLoad& load, const nlohmann::json& option
   return h.hex_digest();
 }
 
-}  // namespace yarnfit::batch
+}  // namespace yarnfit::db
