@@ -42,15 +42,20 @@ int run_export(const ExportArgs& a) {
 void add_export_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<ExportArgs>();
   auto* e = app.add_subcommand(
-      "export", "A fitted fabric in another simulator's format (docs/exports.md): arcsim, ARCSim's material data file "
+      "export", "A fitted fabric in another simulator's format (docs/exports.md): u3m, a U3M 1.1 material (Browzwear, "
+                "CLO) whose physics file carries the fitted model, as a folder or a zipped .u3ma; arcsim, ARCSim's "
+                "material data file "
                 "(Wang et al. 2011's model) sampled from the fitted shell law, with how far its uniaxial force strays "
                 "from the law over the comfort range; table, the homogenised response as CSV and JSON tables (the "
                 "shell law's stress on a Green-strain grid, uniaxial pulls of the shell law and the fitted yarn "
                 "model, bending)");
   e->add_option("FIT_DIR", a->fit_dir, "A `yarnfit fit` output folder or a batch fabric folder")->required();
-  e->add_option("--format", a->format, "arcsim or table")->required()->check(CLI::IsMember({"arcsim", "table"}));
-  e->add_option("-o,--out", a->out, "What to write: arcsim, a .json file; table, a folder")->required();
-  e->add_option("--record", a->record, "The fabric's record folder: its areal density (ARCSim needs it)");
+  e->add_option("--format", a->format, "u3m, arcsim or table")->required()->check(CLI::IsMember({"u3m", "arcsim", "table"}));
+  e->add_option("-o,--out", a->out, "What to write: u3m, a folder or a .u3ma file; arcsim, a .json file; table, a folder")
+      ->required();
+  e->add_option("--record", a->record,
+                "The fabric's record folder: its areal density (ARCSim needs it; U3M's weight), yarns (U3M's "
+                "composition), knit (U3M's construction) and fingerprint");
   e->add_option("--areal-density-gsm", a->areal_density_gsm, "The fabric's areal density [g/m^2], when its record has none");
   e->add_flag("--force", a->force, "Replace the output when it exists");
   e->callback([a, &exit_code] { exit_code = run_export(*a); });

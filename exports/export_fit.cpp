@@ -6,6 +6,7 @@
 #include "exports/arcsim_material.hpp"
 #include "exports/fitted_fabric.hpp"
 #include "exports/strain_table.hpp"
+#include "exports/u3m_material.hpp"
 #include "fabrics_db/text_util.hpp"
 
 namespace yarnfit::exports {
@@ -38,6 +39,22 @@ ExportOutcome export_arcsim(const FittedFabric& fabric, const std::filesystem::p
   return o;
 }
 
+ExportOutcome export_u3m(const FittedFabric& fabric, const std::filesystem::path& out) {
+  const U3mMaterial u3m = u3m_material(fabric);
+  ExportOutcome o;
+  if (out.extension() == ".u3ma") {
+    write_u3ma(u3m, out);
+    o.files.push_back(out);
+  } else {
+    o.files = write_u3m_folder(u3m, out);
+  }
+  o.text = "U3M 1.1 material of " + fabric.shell.fabric + " written to " + out.string() +
+           (out.extension() == ".u3ma" ? " (zipped)" : ": " + u3m.name + ".u3m, physics/physics.json") + "\n";
+  if (!fabric.record_fabric)
+    o.text += "  without the record (--record): weight, composition and construction are null\n";
+  return o;
+}
+
 ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::path& out) {
   const StrainTable table = strain_table(fabric);
   std::filesystem::create_directories(out);
@@ -60,6 +77,7 @@ ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::pa
 }  // namespace
 
 std::optional<ExportFormat> export_format_from_string(std::string_view name) {
+  if (name == "u3m") return ExportFormat::u3m;
   if (name == "arcsim") return ExportFormat::arcsim;
   if (name == "table") return ExportFormat::table;
   return std::nullopt;
@@ -67,6 +85,7 @@ std::optional<ExportFormat> export_format_from_string(std::string_view name) {
 
 const char* to_string(ExportFormat format) {
   switch (format) {
+    case ExportFormat::u3m: return "u3m";
     case ExportFormat::arcsim: return "arcsim";
     case ExportFormat::table: break;
   }
@@ -83,6 +102,7 @@ ExportOutcome export_fit(const ExportRequest& request) {
   }
   if (request.out.has_parent_path()) std::filesystem::create_directories(request.out.parent_path());
   switch (request.format) {
+    case ExportFormat::u3m: return export_u3m(fabric, request.out);
     case ExportFormat::arcsim: return export_arcsim(fabric, request.out);
     case ExportFormat::table: break;
   }

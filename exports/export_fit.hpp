@@ -15,14 +15,14 @@
 
 namespace yarnfit::exports {
 
-enum class ExportFormat { arcsim, table };
+enum class ExportFormat { u3m, arcsim, table };
 [[nodiscard]] std::optional<ExportFormat> export_format_from_string(std::string_view name);
 [[nodiscard]] const char* to_string(ExportFormat format);
 
 struct ExportRequest {
   std::filesystem::path fit_dir;
   ExportFormat format = ExportFormat::arcsim;
-  std::filesystem::path out;     // arcsim: the material file; table: a folder
+  std::filesystem::path out;     // u3m: a folder, or a .u3ma file; arcsim: the material file; table: a folder
   std::filesystem::path record;  // the fabric's record folder (areal density); may be empty
   std::optional<double> areal_density_gsm;  // given: wins over the record's [g/m²]
   bool overwrite = false;        // replace `out` when it exists; otherwise that refuses the export

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "fabrics_db/records/fabric_hash.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "numerics/roots/bisection.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
@@ -76,7 +77,9 @@ FittedFabric read_fitted_fabric(const fs::path& fit_dir, const fs::path& record)
     if (load.fabric->id != f.shell.fabric)
       throw ExportError(record.string() + ": the record is " + load.fabric->id + ", the fit is of " + f.shell.fabric);
     f.record = record.string();
+    f.record_sha256 = db::fabric_hash(load, nullptr);
     f.areal_density = load.fabric->areal_density;
+    f.record_fabric = *load.fabric;
   }
   return f;
 }

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "fabrics_db/records/fabric.hpp"
 #include "results/shell_fit_file.hpp"
 #include "results/yarn_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
@@ -31,6 +32,8 @@ struct FittedFabric {
   shell::ShellParams params;  // the fitted law (absent lock-up terms are zero)
   std::optional<results::YarnFitFile> yarn;  // yarn_fit.json, when the yarn stage ran and succeeded
   std::string record;                        // the record folder, when given
+  std::optional<db::Fabric> record_fabric;   // the record read, when given
+  std::string record_sha256;                 // its fingerprint (db::fabric_hash), when given
   std::optional<double> areal_density;       // [kg/m²], from the record
 };
 

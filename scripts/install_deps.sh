@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev sqlite3 libssl-dev libarchive-dev libcpp-httplib-dev
   libopenmpi-dev openmpi-bin
-  chromium chromium-driver python3-selenium
+  chromium chromium-driver python3-selenium python3-jsonschema
   python3
 )
 
