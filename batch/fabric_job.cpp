@@ -59,7 +59,9 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
     stage("shell");
     observer = [&stage](const pipeline::StageEvent& e) {
       const std::string step = step_text(e.progress);
-      stage(e.stage == pipeline::Stage::shell ? "shell " + step : e.stage == pipeline::Stage::yarn ? step : "report");
+      stage(e.stage == pipeline::Stage::shell ? "shell " + step
+            : e.stage == pipeline::Stage::yarn ? step
+                                               : std::string(pipeline::to_string(e.stage)));
     };
   }
   const pipeline::PlanResult result = pipeline::run_plan(plan, observer);

@@ -16,6 +16,13 @@ void add_shell_model_option(CLI::App& cmd, std::string& model) {
       ->capture_default_str();
 }
 
+void add_export_option(CLI::App& cmd, std::vector<std::string>& formats) {
+  cmd.add_option("--export", formats,
+                 "Also export the fitted fabric, into DIR/exports/: u3m (<id>.u3ma, U3M 1.1), arcsim (<id>_arcsim.json, "
+                 "ARCSim's material data), table (table/, CSV and JSON); comma-separated (docs/exports.md)")
+      ->delimiter(',');
+}
+
 void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& a) {
   // Values are checked by the library (pipeline::pipeline_options, YarnFitSettings::problems and
   // the options of the shell stage), so that one run names every invalid option, not only the

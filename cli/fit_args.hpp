@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 #include "pipeline/fit_request.hpp"
 #include "pipeline/plan.hpp"
@@ -14,6 +15,9 @@ namespace yarnfit::cli {
 
 // --shell-model thesis|stiffening (`shell fit`, `fit`, `batch`).
 void add_shell_model_option(CLI::App& cmd, std::string& model);
+
+// --export u3m,arcsim,table (`fit`, `batch`): the formats written beside the fit's outputs.
+void add_export_option(CLI::App& cmd, std::vector<std::string>& formats);
 
 // The settings options: swarm, local step, samples, seed, compression nodes, ablations, the
 // profile (not the shell stage's --mesh, the fabric, the output folder, --threads,

@@ -268,7 +268,7 @@ nlohmann::json arcsim_json(const FittedFabric& fabric, const ArcsimMaterial& mat
                            const std::vector<ArcsimDeviation>& deviation) {
   nlohmann::json deviations = nlohmann::json::object();
   for (const auto& d : deviation)
-    deviations[d.direction] = {{"comfort_stretch", d.comfort_stretch},
+    deviations[d.direction] = {{"comfort_range_end", d.comfort_stretch},
                                {"mean_pct", d.mean_pct},
                                {"max_pct", d.max_pct},
                                {"within_goal", std::isfinite(d.mean_pct) && d.mean_pct <= k_arcsim_goal_pct}};

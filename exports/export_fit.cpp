@@ -92,6 +92,15 @@ const char* to_string(ExportFormat format) {
   return "table";
 }
 
+std::filesystem::path export_path(ExportFormat format, const std::string& fabric_id) {
+  switch (format) {
+    case ExportFormat::u3m: return std::filesystem::path("exports") / (fabric_id + ".u3ma");
+    case ExportFormat::arcsim: return std::filesystem::path("exports") / (fabric_id + "_arcsim.json");
+    case ExportFormat::table: break;
+  }
+  return std::filesystem::path("exports") / "table";
+}
+
 ExportOutcome export_fit(const ExportRequest& request) {
   if (!request.overwrite && std::filesystem::exists(request.out))
     throw ExportError(request.out.string() + ": exists (use --force to replace it)");

@@ -19,6 +19,10 @@ enum class ExportFormat { u3m, arcsim, table };
 [[nodiscard]] std::optional<ExportFormat> export_format_from_string(std::string_view name);
 [[nodiscard]] const char* to_string(ExportFormat format);
 
+// Where a fit writes its exports (`fit --export`, a batch's, a service job's), relative to its
+// output folder: exports/<id>.u3ma, exports/<id>_arcsim.json, exports/table/.
+[[nodiscard]] std::filesystem::path export_path(ExportFormat format, const std::string& fabric_id);
+
 struct ExportRequest {
   std::filesystem::path fit_dir;
   ExportFormat format = ExportFormat::arcsim;

@@ -114,15 +114,15 @@ nlohmann::json yarnfit_block(const FittedFabric& fabric) {
   nlohmann::json shell_errors = nlohmann::json::object();
   for (const auto& d : fabric.shell.directions) {
     const results::ShellDirectionErrors e = fabric.shell.direction_errors(d.direction);
-    shell_errors[d.direction] = {{"force_pct", e.stretch_force_pct}, {"compression_pct", e.compression_pct}, {"aspect_ratio_pct", e.bending_pct}};
+    shell_errors[d.direction] = {{"force_pct", e.stretch_force_pct}, {"width_pct", e.compression_pct}, {"aspect_ratio_pct", e.bending_pct}};
   }
   nlohmann::json yarn = nullptr;
   if (fabric.yarn) {
     nlohmann::json errors = nlohmann::json::object();
     for (const auto& [direction, e] : fabric.yarn->errors_by_direction)
       errors[direction] = {{"stress_comfort_range_pct", e.stress_comfort_pct}, {"stress_full_range_pct", e.stress_full_pct},
-                           {"compression_pct", e.compression_pct}};
-    yarn = {{"parameters", with_units(fabric.yarn->params)},
+                           {"width_pct", e.compression_pct}};
+    yarn = {{"fitted", with_units(fabric.yarn->params)},
             {"errors_pct", errors},
             {"options", results::to_json(*fabric.yarn).at("settings")},
             {"about", "the yarn-level model (biphasic stretch, rod bending, two-barrier contact) fitted by periodic "
@@ -137,7 +137,7 @@ nlohmann::json yarnfit_block(const FittedFabric& fabric) {
             {"fit_folder", fabric.folder.string()}}},
           {"shell_law",
            {{"model", fabric.shell.model},
-            {"parameters", with_units(shell_values)},
+            {"fitted", with_units(shell_values)},
             {"energy",
              "psi = 1/2 e^T K e + kn1 (J - 1)^2 + kn2 log^2 J (+ the lock-up terms of the stiffening model) per area, "
              "e the material-frame Green strain (weft, warp, 2 x shear), K = [[kxx, kxy, 0], [kxy, kyy, 0], [0, 0, kss]]; "

@@ -56,6 +56,10 @@ PipelineOptions pipeline_options(const FitRequest& request, db::Problems& proble
   else problems.add("", 0, "stages", request.stages + ": not a set of stages (all, shell or yarn)");
   o.shell = shell_options(request, problems);
   o.yarn = yarn_settings(request, problems);
+  for (const std::string& name : request.exports) {
+    if (const auto format = exports::export_format_from_string(name)) o.exports.push_back(*format);
+    else problems.add("", 0, "export", name + ": not an export format (u3m, arcsim or table)");
+  }
   o.targets = request.targets;
   o.start = request.start;
   return o;

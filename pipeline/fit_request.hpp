@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "calibration/fit/yarn_calibration.hpp"
 #include "fabrics_db/problems.hpp"
@@ -30,6 +31,8 @@ struct FitRequest {
   bool overwrite = false;        // replace output files that exist
   // Which stages (stages_from_string): "all", "shell" or "yarn" (on `targets`).
   std::string stages = "all";
+  // Formats to export the fit to (exports::export_format_from_string): "u3m", "arcsim", "table".
+  std::vector<std::string> exports;
 
   // The shell stage (shell::ShellFitOptions).
   double mesh_mm = 5.0;
@@ -61,7 +64,7 @@ struct FitRequest {
 };
 
 // The stages' settings for `request`; every name it cannot use is a problem (field named as
-// the request's: "stages", "shell_model", "budget", "global_method", "local_method"), the
+// the request's: "stages", "shell_model", "budget", "global_method", "local_method", "export"), the
 // default kept in its place. The settings' own ranges are checked by PipelineOptions::problems.
 [[nodiscard]] PipelineOptions pipeline_options(const FitRequest& request, db::Problems& problems);
 

@@ -48,9 +48,17 @@ db::Problems yarn_option_problems(const PipelineOptions& options) {
   return out;
 }
 
+db::Problems export_option_problems(const PipelineOptions& options) {
+  db::Problems out;
+  if (!options.exports.empty() && !runs_shell(options.stages))
+    out.add("", 0, "export", "the formats are sampled from the fitted shell law: the shell stage must run");
+  return out;
+}
+
 db::Problems PipelineOptions::problems() const {
   db::Problems out = shell_option_problems(*this);
   if (runs_yarn(stages)) out.append(yarn_option_problems(*this));
+  out.append(export_option_problems(*this));
   return out;
 }
 

@@ -21,6 +21,7 @@
 
 #include "calibration/fit/yarn_calibration.hpp"
 #include "calibration/problem/yarn_fit_problem.hpp"
+#include "exports/export_fit.hpp"
 #include "fabrics_db/problems.hpp"
 #include "fabrics_db/records/fabric.hpp"
 #include "shell_fit/fit/shell_fit.hpp"
@@ -45,6 +46,9 @@ struct PipelineOptions {
   // Stages::yarn: the uniform targets the yarn stage fits (uniform_targets.csv as the shell
   // stage writes it).
   std::filesystem::path targets;
+  // The formats the fitted fabric is exported to once the fit is written (stage "export",
+  // exports/export_fit.hpp), beside its other outputs (exports::export_path).
+  std::vector<exports::ExportFormat> exports;
   // Where tiles generated for records whose pattern names a knit are kept and looked up
   // (calibration/problem/generated_pattern.hpp); required for such records.
   std::filesystem::path tile_cache;

@@ -3,6 +3,7 @@
 #include <exception>
 #include <optional>
 
+#include "exports/fitted_fabric.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "pipeline/stage_plan.hpp"
 #include "reports/report.hpp"
@@ -23,6 +24,14 @@ PipelineOptions stage_options(const FitPlan& plan, const std::string& fabric_id,
   return o;
 }
 
+// The exports' files in the way (what the record lacks for them is the stages' check).
+db::Problems export_problems(const FitPlan& plan, const db::FabricLoad& load) {
+  db::Problems problems;
+  for (const exports::ExportFormat format : plan.options.exports)
+    problems.append(output_problems(plan.out, {exports::export_path(format, load.id).string()}, plan.overwrite));
+  return problems;
+}
+
 // The plan's stages on the record `load` read, checked: `problems` gets everything that
 // refuses the plan (the record's, each stage's with these `options`, every output file in the
 // way). No state when the record could not be read.
@@ -38,7 +47,33 @@ std::optional<PlanState> checked_state(const FitPlan& plan, const db::FabricLoad
   }
   problems.append(output_problems(plan.out, output_files(plan.options.stages), plan.overwrite));
   if (plan.report) problems.append(output_problems(plan.out, report_files(), plan.overwrite));
+  problems.append(export_problems(plan, load));
   return state;
+}
+
+// The export stage: each format from the folder just written, into out/exports/. A fit without
+// a usable shell law has nothing to export, which the text says (the fit's own status says why).
+void write_exports(const FitPlan& plan, const std::string& fabric_id, PlanResult& result) {
+  if (plan.options.exports.empty()) return;
+  if (!result.fit.shell || !result.fit.shell->usable()) {
+    result.outputs.text += "exports: none written: the shell fit has no usable law\n";
+    return;
+  }
+  for (const exports::ExportFormat format : plan.options.exports) {
+    exports::ExportRequest request;
+    request.fit_dir = plan.out;
+    request.format = format;
+    request.out = plan.out / exports::export_path(format, fabric_id);
+    request.record = plan.fabric;
+    request.overwrite = true;  // checked with the plan
+    try {
+      const exports::ExportOutcome written = exports::export_fit(request);
+      for (const auto& f : written.files) result.outputs.files.push_back(f.lexically_relative(plan.out).string());
+      result.outputs.text += written.text;
+    } catch (const exports::ExportError& e) {
+      result.outputs.text += std::string("export ") + exports::to_string(format) + ": not written: " + e.what() + "\n";
+    }
+  }
 }
 
 // The report stage: out/report/ from the files just written.
@@ -57,6 +92,7 @@ const char* to_string(Stage stage) {
     case Stage::shell: return "shell";
     case Stage::targets: return "targets";
     case Stage::yarn: return "yarn";
+    case Stage::exports: return "export";
     case Stage::report: return "report";
   }
   return "?";
@@ -82,6 +118,8 @@ PlanResult run_plan(const FitPlan& plan, const PlanObserver& observer, db::Probl
   if (result.fit.status == PipelineStatus::invalid_input) return result;
   try {
     result.outputs = write_outputs(result.fit, plan.out);
+    if (!plan.options.exports.empty() && observer) observer({Stage::exports, load.id, reports::Progress{}});
+    write_exports(plan, load.id, result);  // before the report, which links them
     if (plan.report) {
       if (observer) observer({Stage::report, load.id, reports::Progress{}});
       write_fit_report(plan, result);

@@ -23,7 +23,7 @@
 namespace yarnfit::pipeline {
 
 // The stages in the order they run.
-enum class Stage { tile, shell, targets, yarn, report };
+enum class Stage { tile, shell, targets, yarn, exports, report };
 [[nodiscard]] const char* to_string(Stage stage);
 
 struct FitPlan {
@@ -36,8 +36,8 @@ struct FitPlan {
   bool overwrite = false;  // replace output files that exist; otherwise each is a problem
 };
 
-// Progress of the stage that runs: the shell and yarn fits' events, and one when the report
-// is written.
+// Progress of the stage that runs: the shell and yarn fits' events, and one when the exports
+// and when the report are written.
 struct StageEvent {
   Stage stage = Stage::shell;
   std::string fabric_id;

@@ -1,5 +1,6 @@
 #include "pipeline/stage_plan.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "calibration/problem/generated_pattern.hpp"
@@ -142,6 +143,13 @@ StagePlan::StagePlan(Stages stages) {
 
 void StagePlan::check(PlanState& state, db::Problems& problems) const {
   for (const auto& stage : m_stages) stage->check(state, problems);
+  // The exports, written once the fit is (plan.cpp): the shell stage, and what ARCSim reads.
+  problems.append(export_option_problems(state.options));
+  const auto& formats = state.options.exports;
+  if (std::find(formats.begin(), formats.end(), exports::ExportFormat::arcsim) != formats.end() &&
+      !state.fabric.areal_density)
+    problems.add(state.fabric.folder.string(), 0, "export",
+                 "arcsim: the record has no areal_density_gsm, and ARCSim's material needs the areal density");
 }
 
 PipelineResult StagePlan::run(PlanState state) const {

@@ -35,6 +35,8 @@ struct PlanState {
 // "yarn.<field>" (a start file skips the swarm, so its settings are not checked then).
 [[nodiscard]] db::Problems shell_option_problems(const PipelineOptions& options);
 [[nodiscard]] db::Problems yarn_option_problems(const PipelineOptions& options);
+// The exports' ("export"): they need the shell stage, whose law they sample.
+[[nodiscard]] db::Problems export_option_problems(const PipelineOptions& options);
 
 // `result` refused for `problems`: nothing (more) was run.
 void refuse(PipelineResult& result, db::Problems problems);

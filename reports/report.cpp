@@ -28,7 +28,7 @@ std::filesystem::path write_report(const ReportData& data, const std::filesystem
   db::write_text_file_atomically(out / "fabrics.csv", fabrics_csv(data));
   db::write_text_file_atomically(out / "families.csv", families_csv(data));
   const auto index = out / "index.html";
-  db::write_text_file_atomically(index, report_html(data, generated.empty() ? local_time_now() : generated));
+  db::write_text_file_atomically(index, report_html(data, generated.empty() ? local_time_now() : generated, out));
   return index;
 }
 

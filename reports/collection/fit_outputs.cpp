@@ -28,6 +28,10 @@ FabricOutputs read_fit_outputs(const fs::path& folder, std::vector<std::string>&
   const std::size_t problems_before = problems.size();
   f.shell = read_result<results::ShellFitFile>(folder / "shell_fit.json", results::read_shell_fit_file, problems);
   f.yarn = read_result<results::YarnFitFile>(folder / "yarn_fit.json", results::read_yarn_fit_file, problems);
+  std::error_code ec;
+  for (fs::recursive_directory_iterator e(folder / "exports", ec), end; !ec && e != end; e.increment(ec))
+    if (e->is_regular_file()) f.exports.push_back(e->path());
+  std::sort(f.exports.begin(), f.exports.end());
   const auto non_empty = [](const std::string& s, const std::string& fallback) { return s.empty() ? fallback : s; };
   f.id = non_empty(f.shell ? f.shell->fabric : "", non_empty(f.yarn ? f.yarn->fabric : "", folder.filename().string()));
   f.family = non_empty(f.shell ? f.shell->family : "", f.yarn ? f.yarn->family : "");

@@ -24,6 +24,7 @@ struct FabricOutputs {
   std::string error;    // why it failed
   std::optional<results::ShellFitFile> shell;  // shell_fit.json, when there is a readable one
   std::optional<results::YarnFitFile> yarn;    // yarn_fit.json, when there is a readable one
+  std::vector<std::filesystem::path> exports;  // the files under exports/ (`--export`), by name
 };
 
 struct RunOutputs {

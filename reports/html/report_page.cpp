@@ -482,11 +482,25 @@ void list_effects(std::ostringstream& h, const std::map<std::string, std::vector
   }
 }
 
-void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs) {
+// A fabric's exported files, linked relative to the page's folder.
+void export_links(std::ostringstream& h, const FabricOutputs& f, const std::filesystem::path& report_dir) {
+  if (f.exports.empty()) return;
+  h << "<p class=\"note exports\">exports:";
+  for (const auto& file : f.exports) {
+    const auto absolute = std::filesystem::absolute(file).lexically_normal();
+    const auto href = report_dir.empty() ? absolute : absolute.lexically_relative(std::filesystem::absolute(report_dir).lexically_normal());
+    h << " <a href=\"" << escape(href.generic_string()) << "\">" << escape(file.lexically_relative(f.folder / "exports").generic_string())
+      << "</a>";
+  }
+  h << " <span class=\"meta\">(docs/exports.md)</span></p>";
+}
+
+void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs, const std::filesystem::path& report_dir) {
   h << "<section class=\"fabric\" id=\"" << anchor(r.id) << "\" data-fabric=\"" << escape(r.id) << "\"><h3>"
     << escape(r.id) << " <span class=\"meta\">family " << escape(family_name(r.family))
     << (runs > 1 ? ", run " + escape(r.run) : std::string()) << ", " << escape(r.status) << "</span></h3>";
   if (!r.error.empty()) h << "<p class=\"fail\">" << escape(r.error) << "</p>";
+  if (r.outputs) export_links(h, *r.outputs, report_dir);
   if (r.has_shell()) {
     // shell_fit.json names its in-plane law; outputs from before the choice existed are eq. 6.1.
     const std::string& model = r.outputs->shell->model;
@@ -573,7 +587,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs)
 
 }  // namespace
 
-std::string report_html(const ReportData& d, const std::string& generated) {
+std::string report_html(const ReportData& d, const std::string& generated, const std::filesystem::path& report_dir) {
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"/><title>yarnfit report: " << d.fabrics.size()
     << " fabrics</title><style>" << k_css << "</style></head><body>";
@@ -590,7 +604,7 @@ std::string report_html(const ReportData& d, const std::string& generated) {
   family_plots(h, d);
   cost_section(h, d);
   h << "<h2 id=\"fabrics\">Fabrics</h2>";
-  for (const auto& r : d.fabrics) fabric_section(h, r, d.run_summaries.size());
+  for (const auto& r : d.fabrics) fabric_section(h, r, d.run_summaries.size(), report_dir);
   h << "</body></html>\n";
   return h.str();
 }

@@ -8,13 +8,16 @@
 // family, cost, fabric, fabric-shell-force, …); family plots carry data-family, fabric plots
 // data-fabric. Each family has exactly one data-plot="family", each fabric one data-plot="fabric".
 
+#include <filesystem>
 #include <string>
 
 #include "reports/collection/report_data.hpp"
 
 namespace yarnfit::reports {
 
-// `generated` is shown as the page's date (the caller's clock, so that tests can fix it).
-std::string report_html(const ReportData& data, const std::string& generated);
+// `generated` is shown as the page's date (the caller's clock, so that tests can fix it); links
+// to a fabric's files are relative to `report_dir`, the folder the page is written to.
+std::string report_html(const ReportData& data, const std::string& generated,
+                        const std::filesystem::path& report_dir = {});
 
 }  // namespace yarnfit::reports

@@ -267,10 +267,12 @@ struct FittingService::Impl {
     const std::string id = req.matches[1], name = req.matches[2];
     const auto j = job(who, id);
     if (!j) return refuse(res, 404, "no fit of '" + id + "'");
-    const auto& names = downloadable_files();
-    if (std::find(names.begin(), names.end(), name) == names.end())
-      return refuse(res, 404, "no result file '" + name + "' (there are: " + join(names) + ")");
-    serve_file(res, jobs.output_folder(j->first, id) / name, name);
+    std::vector<std::string> names;
+    for (const auto& [file, path] : downloadable_files(id)) {
+      if (file == name) return serve_file(res, jobs.output_folder(j->first, id) / path, name);
+      names.push_back(file);
+    }
+    refuse(res, 404, "no result file '" + name + "' (there are: " + join(names) + ")");
   }
 
   void serve_file(httplib::Response& res, const fs::path& file, const std::string& what) {
@@ -281,6 +283,7 @@ struct FittingService::Impl {
     const char* type = ext == ".json" ? "application/json"
                        : ext == ".csv" ? "text/csv"
                        : ext == ".html" ? "text/html; charset=utf-8"
+                       : ext == ".u3ma" ? "application/zip"
                                         : "text/plain; charset=utf-8";
     res.status = 200;
     res.set_content(text, type);

@@ -18,6 +18,7 @@
 
 #include "batch/batch.hpp"
 #include "batch/batch_report.hpp"
+#include "exports/export_fit.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "reports/report.hpp"
 
@@ -111,9 +112,17 @@ void run_fit_worker(const fs::path& data_dir, const FitJobsOptions& options) {
   batch::run_batch_mpi(o);
 }
 
-const std::vector<std::string>& downloadable_files() {
-  static const std::vector<std::string> files{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv",
-                                              "yarn_fit.json",  "yarn_curves.csv",     "summary.txt"};
+std::vector<std::pair<std::string, fs::path>> downloadable_files(const std::string& id) {
+  std::vector<std::pair<std::string, fs::path>> files;
+  for (const char* f : {"shell_fit.json", "uniform_targets.csv", "shell_curves.csv", "yarn_fit.json", "yarn_curves.csv",
+                        "summary.txt"})
+    files.emplace_back(f, f);
+  for (const auto format : {exports::ExportFormat::u3m, exports::ExportFormat::arcsim}) {
+    const fs::path p = exports::export_path(format, id);
+    files.emplace_back(p.filename().string(), p);
+  }
+  for (const char* f : {"table.json", "stress.csv", "uniaxial.csv", "bending.csv"})
+    files.emplace_back(f, exports::export_path(exports::ExportFormat::table, id) / f);
   return files;
 }
 
@@ -261,8 +270,8 @@ struct FitJobs::Impl {
     json files = json::array();
     const fs::path folder = batch::fabric_output_folder(runs, key);
     if (state != "queued")
-      for (const auto& f : downloadable_files())
-        if (fs::exists(folder / f)) files.push_back(f);
+      for (const auto& [name, path] : downloadable_files(fs::path(key).filename().string()))
+        if (fs::exists(folder / path)) files.push_back(name);
     j["files"] = files;
     j["report"] = state != "queued" && fs::exists(folder / "report" / "index.html");
     return j;

@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -43,8 +44,9 @@ struct JobAnswer {
   nlohmann::json body;
 };
 
-// Result files a job can be asked for, as its folder names them.
-[[nodiscard]] const std::vector<std::string>& downloadable_files();
+// Result files a job of fabric `id` can be asked for: each name and where it lies in the job's
+// folder (the fit's files, and its exports: <id>.u3ma, <id>_arcsim.json and the table's files).
+[[nodiscard]] std::vector<std::pair<std::string, std::filesystem::path>> downloadable_files(const std::string& id);
 
 class FitJobs {
  public:

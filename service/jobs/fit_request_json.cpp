@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace yarnfit::service {
 
@@ -52,10 +53,25 @@ Field optional_int(std::optional<int> pipeline::FitRequest::*member) {
           }};
 }
 
+// A list of names (`export`: ["u3m", "table"]).
+Field names(std::vector<std::string> pipeline::FitRequest::*member) {
+  return {[member](const json& v, ServiceFitRequest& r) {
+            if (!v.is_array()) return false;
+            for (const auto& n : v)
+              if (!n.is_string()) return false;
+            r.request.*member = v.get<std::vector<std::string>>();
+            return true;
+          },
+          [member](const ServiceFitRequest& r, json& j, const std::string& name) {
+            if (!(r.request.*member).empty()) j[name] = r.request.*member;
+          }};
+}
+
 const std::map<std::string, Field>& fields() {
   using R = pipeline::FitRequest;
   static const std::map<std::string, Field> table{
       {"stages", plain(&R::stages)},
+      {"export", names(&R::exports)},
       {"budget", plain(&R::budget)},
       {"global_method", plain(&R::global_method)},
       {"local_method", plain(&R::local_method)},

@@ -68,15 +68,15 @@ def validate(name, material, physics, fit_dir, with_record, with_yarn):
     block = physics["custom"]["yarnfit"]
     shell = json.load(open(os.path.join(fit_dir, "shell_fit.json")))
     fitted = {k: v for k, v in shell["params"].items() if v is not None}
-    exported = {k: v["value"] for k, v in block["shell_law"]["parameters"].items()}
+    exported = {k: v["value"] for k, v in block["shell_law"]["fitted"].items()}
     check(exported == fitted, f"{name}: the shell law's parameters are the fit's, bit for bit")
-    check(all(v["unit"] for v in block["shell_law"]["parameters"].values()), f"{name}: every shell parameter has a unit")
+    check(all(v["unit"] for v in block["shell_law"]["fitted"].values()), f"{name}: every shell parameter has a unit")
     check(set(block["shell_law"]["errors_pct"]) == {d["direction"] for d in shell["directions"]},
           f"{name}: errors for every tested direction")
     check(physics["raw_data"] is None, f"{name}: raw_data is null (no FAB measurement)")
     if with_yarn:
         yarn = json.load(open(os.path.join(fit_dir, "yarn_fit.json")))
-        check({k: v["value"] for k, v in block["yarn"]["parameters"].items()} == yarn["params"],
+        check({k: v["value"] for k, v in block["yarn"]["fitted"].items()} == yarn["params"],
               f"{name}: the yarn parameters are the fit's")
     else:
         check(block["yarn"] is None, f"{name}: no yarn block without the yarn stage")

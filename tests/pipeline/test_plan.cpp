@@ -94,6 +94,50 @@ TEST(Plan, EveryProblemOfARequestIsRefusedAtOnceBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir / "missing_out"));
 }
 
+TEST(Plan, ExportsAreWrittenBesideTheFitAfterItAndLinkedFromTheReport) {
+  ScratchDir dir("plan_exports");
+  FitRequest r = tiny(weft_only_record(dir.path()), dir / "out");
+  r.stages = "shell";
+  r.report = true;
+  r.exports = {"u3m", "arcsim", "table"};
+  std::vector<Stage> order;
+  const PlanResult result = run_request(r, [&order](const StageEvent& e) {
+    if (order.empty() || order.back() != e.stage) order.push_back(e.stage);
+  });
+  ASSERT_TRUE(result.ok()) << result.fit.message << result.write_error << result.fit.problems.to_string();
+  EXPECT_EQ(order, (std::vector<Stage>{Stage::shell, Stage::exports, Stage::report}));
+  for (const char* f : {"exports/weft_only.u3ma", "exports/weft_only_arcsim.json", "exports/table/table.json"}) {
+    EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+    EXPECT_TRUE(has(result.outputs.files, f)) << f;
+  }
+  EXPECT_NE(result.outputs.text.find("ARCSim material of weft_only"), std::string::npos) << result.outputs.text;
+  EXPECT_NE(read_file(dir / "out/report/index.html").find("href=\"../exports/weft_only.u3ma\""), std::string::npos);
+
+  // Refused before any work: a format that does not exist, the yarn stage alone (no shell law),
+  // ARCSim for a record without an areal density, an export file in the way.
+  FitRequest bad = tiny(dir / "weft_only", dir / "bad_out");
+  bad.exports = {"obj"};
+  EXPECT_TRUE(has(fields(run_request(bad).fit.problems), "export"));
+  bad.exports = {"table"};
+  bad.stages = "yarn";
+  bad.targets = dir / "out" / "uniform_targets.csv";
+  EXPECT_TRUE(has(fields(run_request(bad).fit.problems), "export"));
+  std::string yaml = read_file(dir / "weft_only/fabric.yaml");
+  yaml.replace(yaml.find("areal_density_gsm: 180\n"), 23, "");
+  write_file(dir / "weft_only/fabric.yaml", yaml);
+  FitRequest no_density = tiny(dir / "weft_only", dir / "density_out");
+  no_density.stages = "shell";
+  no_density.exports = {"arcsim"};
+  const PlanResult refused = run_request(no_density);
+  EXPECT_EQ(refused.fit.status, PipelineStatus::invalid_input);
+  EXPECT_NE(refused.fit.problems.to_string().find("arcsim: the record has no areal_density_gsm"), std::string::npos)
+      << refused.fit.problems.to_string();
+  EXPECT_FALSE(fs::exists(dir / "density_out" / "shell_fit.json"));
+  r.exports = {"table"};
+  r.report = false;
+  EXPECT_TRUE(has(fields(run_request(r).fit.problems), (dir / "out" / "exports" / "table").string()));
+}
+
 TEST(Plan, AWholePlanRunsTheLibrarysStagesWritesEachStagesFilesAndReportsEachStageInOrder) {
   ScratchDir dir("plan_all");
   FitRequest r = tiny(weft_only_record(dir.path()), dir / "out");

@@ -173,7 +173,9 @@ TEST_F(ServedFits, AFitIsFollowedOnItsEventStreamAndItsResultsAndReportsDownload
   serve_fits();
   const std::string id = upload(m_ana, "knit_a");
   auto ana = as(m_ana);
-  const auto started = ana.Post("/api/v1/fabrics/" + id + "/fits", k_small.dump(), "application/json");
+  json with_exports = k_small;
+  with_exports["export"] = {"table", "u3m"};
+  const auto started = ana.Post("/api/v1/fabrics/" + id + "/fits", with_exports.dump(), "application/json");
   ASSERT_EQ(started->status, 202) << started->body;
   EXPECT_EQ(body_of(started)["state"], "queued");
   EXPECT_EQ(ana.Post("/api/v1/fabrics/" + id + "/fits", k_small.dump(), "application/json")->status, 409);
@@ -219,14 +221,20 @@ TEST_F(ServedFits, AFitIsFollowedOnItsEventStreamAndItsResultsAndReportsDownload
   const json done = body_of(ana.Get("/api/v1/jobs/" + id));
   EXPECT_EQ(done["progress"], 1.0);
   EXPECT_TRUE(done["report"].get<bool>());
-  EXPECT_EQ(done["files"].size(), 6u) << done.dump();
+  // The fit's six files, the U3M material and the table's four.
+  EXPECT_EQ(done["files"].size(), 11u) << done.dump();
   // Every result file as the fit wrote it.
   const fs::path folder = m_dir / "runs" / "fabrics" / "ana" / id;
   for (const auto& f : done["files"]) {
-    const auto got = ana.Get("/api/v1/jobs/" + id + "/files/" + f.get<std::string>());
+    const std::string name = f.get<std::string>();
+    const auto got = ana.Get("/api/v1/jobs/" + id + "/files/" + name);
     ASSERT_EQ(got->status, 200) << f;
-    EXPECT_EQ(got->body, read_file(folder / f.get<std::string>())) << f;
+    const fs::path file = name == id + ".u3ma" ? folder / "exports" / name
+                          : fs::exists(folder / name) ? folder / name
+                                                      : folder / "exports" / "table" / name;
+    EXPECT_EQ(got->body, read_file(file)) << f;
   }
+  EXPECT_EQ(ana.Get("/api/v1/jobs/" + id + "/files/" + id + ".u3ma")->get_header_value("Content-Type"), "application/zip");
   EXPECT_EQ(ana.Get("/api/v1/jobs/" + id + "/files/batch.db")->status, 404);
   EXPECT_EQ(ana.Get("/api/v1/jobs/" + id + "/files/..%2F..%2Fbatch.db")->status, 404);
   const auto report = ana.Get("/api/v1/jobs/" + id + "/report");
