@@ -154,7 +154,7 @@ la_ssize_t append_to(archive*, void* buffer, const void* data, size_t size) {
   return static_cast<la_ssize_t>(size);
 }
 
-void check(archive* a, int status, const std::string& what) {
+void require_ok(archive* a, int status, const std::string& what) {
   if (status != ARCHIVE_OK) throw std::runtime_error("zip: " + what + ": " + archive_error_string(a));
 }
 
@@ -204,10 +204,10 @@ void write_u3ma(const U3mMaterial& u3m, const std::filesystem::path& file) {
   std::string zip;
   {
     ArchivePtr a(archive_write_new(), archive_write_free);
-    check(a.get(), archive_write_set_format_zip(a.get()), "format");
-    check(a.get(), archive_write_set_options(a.get(), "zip:compression=store,zip:hdrcharset=UTF-8"), "options");
-    check(a.get(), archive_write_set_bytes_in_last_block(a.get(), 1), "block size");  // nothing after the archive
-    check(a.get(), archive_write_open2(a.get(), &zip, nullptr, append_to, nullptr, nullptr), "open");
+    require_ok(a.get(), archive_write_set_format_zip(a.get()), "format");
+    require_ok(a.get(), archive_write_set_options(a.get(), "zip:compression=store,zip:hdrcharset=UTF-8"), "options");
+    require_ok(a.get(), archive_write_set_bytes_in_last_block(a.get(), 1), "block size");  // nothing after the archive
+    require_ok(a.get(), archive_write_open2(a.get(), &zip, nullptr, append_to, nullptr, nullptr), "open");
     const std::time_t now = std::time(nullptr);
     for (const auto& [name, text] : {std::pair{u3m.name + ".u3m", u3m.material.dump(2) + "\n"},
                                      std::pair{std::string(k_physics_file), u3m.physics.dump(2) + "\n"}}) {
@@ -217,11 +217,11 @@ void write_u3ma(const U3mMaterial& u3m, const std::filesystem::path& file) {
       archive_entry_set_perm(e.get(), 0644);
       archive_entry_set_size(e.get(), static_cast<la_int64_t>(text.size()));
       archive_entry_set_mtime(e.get(), now, 0);
-      check(a.get(), archive_write_header(a.get(), e.get()), name);
+      require_ok(a.get(), archive_write_header(a.get(), e.get()), name);
       if (archive_write_data(a.get(), text.data(), text.size()) != static_cast<la_ssize_t>(text.size()))
         throw std::runtime_error("zip: " + name + ": " + archive_error_string(a.get()));
     }
-    check(a.get(), archive_write_close(a.get()), "close");
+    require_ok(a.get(), archive_write_close(a.get()), "close");
   }
   db::write_text_file_atomically(file, zip);
 }
