@@ -12,7 +12,7 @@ namespace yarnfit::cli {
 namespace {
 
 struct ExportArgs {
-  std::string fit_dir, format, out, record;
+  std::string fit_dir, format, out, record, tile_cache;
   std::optional<double> areal_density_gsm;
   bool force = false;
 };
@@ -25,6 +25,7 @@ int run_export(const ExportArgs& a) {
   r.record = a.record;
   r.overwrite = a.force;
   r.areal_density_gsm = a.areal_density_gsm;
+  r.tile_cache = a.tile_cache;
   try {
     std::cout << exports::export_fit(r).text;
   } catch (const exports::ExportError& e) {
@@ -57,6 +58,8 @@ void add_export_command(CLI::App& app, int& exit_code) {
                 "The fabric's record folder: its areal density (ARCSim needs it; U3M's weight), yarns (U3M's "
                 "composition), knit (U3M's construction) and fingerprint");
   e->add_option("--areal-density-gsm", a->areal_density_gsm, "The fabric's areal density [g/m^2], when its record has none");
+  e->add_option("--tile-cache", a->tile_cache,
+                "table: where the fit kept a knit's generated tile (default FIT_DIR; a batch's: BATCH/tiles)");
   e->add_flag("--force", a->force, "Replace the output when it exists");
   e->callback([a, &exit_code] { exit_code = run_export(*a); });
 }

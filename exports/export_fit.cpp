@@ -55,8 +55,9 @@ ExportOutcome export_u3m(const FittedFabric& fabric, const std::filesystem::path
   return o;
 }
 
-ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::path& out) {
-  const StrainTable table = strain_table(fabric);
+ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::path& out,
+                           const std::filesystem::path& tile_cache) {
+  const StrainTable table = strain_table(fabric, tile_cache.empty() ? fabric.folder : tile_cache);
   std::filesystem::create_directories(out);
   ExportOutcome o;
   const auto write = [&](const std::string& name, const std::string& text) {
@@ -70,7 +71,8 @@ ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::pa
   o.text = "strain table of " + fabric.shell.fabric + " written to " + out.string() + ": stress.csv (" +
            std::to_string(table.stress.size()) + " strains), uniaxial.csv (" + std::to_string(table.uniaxial.size()) +
            " rows" + (table.yarn_reason.empty() ? ", shell and yarn" : ", shell only: " + table.yarn_reason) +
-           "), bending.csv, table.json\n";
+           "), bending.csv (" + (table.yarn_bending_reason.empty() ? "shell and yarn" : "shell only: " + table.yarn_bending_reason) +
+           "), table.json\n";
   return o;
 }
 
@@ -115,7 +117,7 @@ ExportOutcome export_fit(const ExportRequest& request) {
     case ExportFormat::arcsim: return export_arcsim(fabric, request.out);
     case ExportFormat::table: break;
   }
-  return export_table(fabric, request.out);
+  return export_table(fabric, request.out, request.tile_cache);
 }
 
 }  // namespace yarnfit::exports

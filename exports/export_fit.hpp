@@ -29,6 +29,8 @@ struct ExportRequest {
   std::filesystem::path out;     // u3m: a folder, or a .u3ma file; arcsim: the material file; table: a folder
   std::filesystem::path record;  // the fabric's record folder (areal density); may be empty
   std::optional<double> areal_density_gsm;  // given: wins over the record's [g/m²]
+  // Where a knit's generated tile was kept (table: the yarn bending rows); empty: the fit folder.
+  std::filesystem::path tile_cache;
   bool overwrite = false;        // replace `out` when it exists; otherwise that refuses the export
 };
 

@@ -8,8 +8,12 @@
 //    and the compression across, from the shell law (25 stretches to the end of the fitted
 //    range) and, when the yarn stage ran, from the fitted yarn model simulated on the tile at
 //    the yarn fit's target stretches (its final evaluation, yarn_fit.json's curves);
-//  * bending: the shell law's moment 2 k_θ κ and energy k_θ κ² per direction, κ = 0 … 50 m⁻¹.
+//  * bending: the shell law's moment 2 k_θ κ and energy k_θ κ² per direction, κ = 0 … 50 m⁻¹,
+//    and, when the yarn stage ran and the tile is at hand (the record's, or a knit's generated
+//    tile in `tile_cache`), the fitted yarn model's moment ∂Ψ/∂κ and energy simulated on the
+//    tile (its rest shape first, as `yarn sim --curvature` does) at κ = 0, 10, … 50 m⁻¹.
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -34,6 +38,7 @@ struct UniaxialRow {
 };
 
 struct BendingRow {
+  std::string model;  // shell or yarn
   std::string direction;
   double curvature = 0;  // [1/m]
   double moment = 0;     // ∂ψ/∂κ [N]
@@ -44,10 +49,13 @@ struct StrainTable {
   std::vector<StressRow> stress;
   std::vector<UniaxialRow> uniaxial;
   std::vector<BendingRow> bending;
-  std::string yarn_reason;  // why there are no yarn rows; empty when there are
+  std::string yarn_reason;          // why there are no yarn uniaxial rows; empty when there are
+  std::string yarn_bending_reason;  // why there are no yarn bending rows; empty when there are
 };
 
-[[nodiscard]] StrainTable strain_table(const FittedFabric& fabric);
+// `tile_cache`: where the fit kept a knit's generated tile (the fit folder for `fit`, the
+// batch's tiles/ for a batch); unused for a record that names its tile.
+[[nodiscard]] StrainTable strain_table(const FittedFabric& fabric, const std::filesystem::path& tile_cache = {});
 
 // The files of the table: stress.csv, uniaxial.csv, bending.csv, and table.json with all
 // three, the units, the grids and where the rows come from.

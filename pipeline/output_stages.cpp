@@ -40,6 +40,7 @@ class ExportStage final : public OutputStage {
       request.format = format;
       request.out = plan.out / exports::export_path(format, fabric_id);
       request.record = plan.fabric;
+      request.tile_cache = plan.options.tile_cache.empty() ? plan.out : plan.options.tile_cache;
       request.overwrite = true;  // checked with the plan
       try {
         const exports::ExportOutcome written = exports::export_fit(request);

@@ -124,6 +124,29 @@ TEST(StrainTable, YarnPullsAreTheFittedModelSimulatedOnTheTile) {
   EXPECT_GE(checked, 3);
 }
 
+TEST(StrainTable, YarnBendingIsTheFittedModelBentOnTheTile) {
+  const ScratchDir dir("table_yarn_bending");
+  const fs::path fit = demo_fit(dir);
+  const fs::path record = yarnfit::testing::bundled_example_folder();
+  const StrainTable t = strain_table(read_fitted_fabric(fit, record));
+  ASSERT_TRUE(t.yarn_bending_reason.empty()) << t.yarn_bending_reason;
+  int checked = 0;
+  for (const auto& row : t.bending) {
+    if (row.model != "yarn" || row.curvature != 30.0) continue;
+    const auto r = run_cli("yarn sim -q --json --stretch 0 --curvature 30 --pattern " + quoted(record / "tile.pyp") +
+                           " --params " + quoted(fit / "yarn_fit.json") + " --direction " + row.direction);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NEAR(row.moment, json::parse(r.out)["stress_kappa"].get<double>(), 1e-9 * std::abs(row.moment)) << row.direction;
+    EXPECT_GT(row.moment, 0.0) << row.direction;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+  // Without the record there is no tile to bend: shell rows only, and why.
+  const StrainTable no_record = strain_table(read_fitted_fabric(fit));
+  EXPECT_NE(no_record.yarn_bending_reason.find("give the record"), std::string::npos) << no_record.yarn_bending_reason;
+  for (const auto& row : no_record.bending) EXPECT_EQ(row.model, "shell");
+}
+
 TEST(StrainTable, TheCommandWritesFourFilesAndSaysWhenThereAreNoYarnRows) {
   const ScratchDir dir("table_cli");
   const fs::path fit = demo_fit(dir);
@@ -141,6 +164,13 @@ TEST(StrainTable, TheCommandWritesFourFilesAndSaysWhenThereAreNoYarnRows) {
   ASSERT_EQ(shell_only.exit_code, 0) << shell_only.err;
   EXPECT_NE(shell_only.out.find("shell only"), std::string::npos) << shell_only.out;
   EXPECT_EQ(read_file(dir / "shell_only/uniaxial.csv").find("yarn,"), std::string::npos);
+  // The acrylic rib's stiffening-law fit (shell stage only).
+  const fs::path rib = dir / "acrylic_rib";
+  fs::create_directories(rib);
+  fs::copy_file(k_data / "acrylic_rib_shell_fit.json", rib / "shell_fit.json");
+  const auto rib_table = run_cli("export " + quoted(rib) + " --format table --out " + quoted(dir / "rib_table"));
+  ASSERT_EQ(rib_table.exit_code, 0) << rib_table.err;
+  EXPECT_EQ(json::parse(read_file(dir / "rib_table/table.json"))["shell_model"], "stiffening");
   // The folder is the user's: not replaced without --force.
   const auto again = run_cli("export " + quoted(fit) + " --format table --out " + quoted(dir / "table"));
   EXPECT_EQ(again.exit_code, 2);
