@@ -59,7 +59,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
                 "composition), knit (U3M's construction) and fingerprint");
   e->add_option("--areal-density-gsm", a->areal_density_gsm, "The fabric's areal density [g/m^2], when its record has none");
   e->add_option("--tile-cache", a->tile_cache,
-                "table: where the fit kept a knit's generated tile (default FIT_DIR; a batch's: BATCH/tiles)");
+                "table: where the fit kept a knit's generated tile (default: FIT_DIR, or BATCH/tiles for a batch fabric folder)");
   e->add_flag("--force", a->force, "Replace the output when it exists");
   e->callback([a, &exit_code] { exit_code = run_export(*a); });
 }

@@ -57,7 +57,7 @@ ExportOutcome export_u3m(const FittedFabric& fabric, const std::filesystem::path
 
 ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::path& out,
                            const std::filesystem::path& tile_cache) {
-  const StrainTable table = strain_table(fabric, tile_cache.empty() ? fabric.folder : tile_cache);
+  const StrainTable table = strain_table(fabric, tile_cache);
   std::filesystem::create_directories(out);
   ExportOutcome o;
   const auto write = [&](const std::string& name, const std::string& text) {
@@ -74,6 +74,16 @@ ExportOutcome export_table(const FittedFabric& fabric, const std::filesystem::pa
            "), bending.csv (" + (table.yarn_bending_reason.empty() ? "shell and yarn" : "shell only: " + table.yarn_bending_reason) +
            "), table.json\n";
   return o;
+}
+
+// Where the fit kept a knit's generated tile: as given, else BATCH/tiles for a batch fabric
+// folder (BATCH/fabrics/<id>), else the fit folder itself (`fit`'s).
+std::filesystem::path tile_cache_of(const ExportRequest& request) {
+  if (!request.tile_cache.empty()) return request.tile_cache;
+  std::filesystem::path dir = std::filesystem::absolute(request.fit_dir).lexically_normal();
+  if (!dir.has_filename()) dir = dir.parent_path();  // given with a trailing '/'
+  const std::filesystem::path batch = dir.parent_path().parent_path();
+  return std::filesystem::exists(batch / "batch.db") ? batch / "tiles" : request.fit_dir;
 }
 
 }  // namespace
@@ -117,7 +127,7 @@ ExportOutcome export_fit(const ExportRequest& request) {
     case ExportFormat::arcsim: return export_arcsim(fabric, request.out);
     case ExportFormat::table: break;
   }
-  return export_table(fabric, request.out, request.tile_cache);
+  return export_table(fabric, request.out, tile_cache_of(request));
 }
 
 }  // namespace yarnfit::exports

@@ -3,7 +3,7 @@
 // their trilinear lookup, its bending interpolation and energy per hinge edge), re-implemented
 // here from the format, not from the export's code. The fits are kept files of real fits
 // (data/): the bundled example's (stockinette_demo) and a stiffening-law fit of the acrylic
-// 1x1 rib (the widest stretch range of the four acrylic records).
+// 1x1 rib (the widest stretch range of the four acrylic records), and each one's eq. 6.1 fit.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -40,11 +40,22 @@ using yarnfit::testing::write_file;
 
 const fs::path k_data = fs::path(YARNFIT_SOURCE_DIR) / "tests/exports/data";
 
-// A fit folder holding the kept shell_fit.json `name`.
+// A fit folder holding the kept shell_fit.json `name`; "<name>_thesis" is the same fabric's
+// fit with eq. 6.1 alone (the thesis-model fit a stiffening fit starts from, which its file keeps).
 fs::path fit_folder(const ScratchDir& dir, const std::string& name) {
   const fs::path folder = dir / name;
   fs::create_directories(folder);
-  fs::copy_file(k_data / (name + "_shell_fit.json"), folder / "shell_fit.json");
+  const std::string suffix = "_thesis";
+  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    json file = json::parse(read_file(k_data / (name.substr(0, name.size() - suffix.size()) + "_shell_fit.json")));
+    json params = file["thesis_model_fit"]["params"];
+    for (const char* k : {"ktheta_weft", "ktheta_bias", "ktheta_warp"}) params[k] = file["params"][k];
+    file["params"] = params;
+    file["model"] = "thesis";
+    write_file(folder / "shell_fit.json", file.dump());
+  } else {
+    fs::copy_file(k_data / (name + "_shell_fit.json"), folder / "shell_fit.json");
+  }
   return folder;
 }
 
@@ -186,7 +197,8 @@ TEST_P(ArcsimExport, AtRestArcsimHasTheLawsSmallStrainStiffness) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(KeptFits, ArcsimExport, ::testing::Values("stockinette_demo", "acrylic_rib"));
+INSTANTIATE_TEST_SUITE_P(KeptFits, ArcsimExport,
+                         ::testing::Values("stockinette_demo", "acrylic_rib", "stockinette_demo_thesis", "acrylic_rib_thesis"));
 
 // ARCSim's bending energy per hinge edge (physics.cpp bending_force with dde.cpp's
 // bending_stiffness): ke from the 3 × 5 by the edge's material direction, folded into
