@@ -56,7 +56,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
       ->required();
   e->add_option("--record", a->record,
                 "The fabric's record folder: its areal density (ARCSim needs it; U3M's weight), yarns (U3M's "
-                "composition), knit (U3M's construction) and fingerprint");
+                "composition), knit (U3M's construction), tile (the table's yarn bending) and fingerprint");
   e->add_option("--areal-density-gsm", a->areal_density_gsm, "The fabric's areal density [g/m^2], when its record has none");
   e->add_option("--tile-cache", a->tile_cache,
                 "table: where the fit kept a knit's generated tile (default: FIT_DIR, or BATCH/tiles for a batch fabric folder)");

@@ -86,14 +86,6 @@ std::vector<LawState> law_path(const shell::InplaneParams& law, double angle, do
   return path;
 }
 
-// The law's second Piola–Kirchhoff stress at the material-frame Green strain G: F = √(2G + I)
-// (no rotation), S = F⁻¹P.
-Eigen::Matrix2d law_stress(const shell::InplaneMaterial& law, const Eigen::Matrix2d& G) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(2.0 * G + Eigen::Matrix2d::Identity());
-  const Eigen::Matrix2d F = eig.operatorSqrt();
-  return F.inverse() * law.pk1(F);
-}
-
 // ARCSim's row 0: the law's tangent at rest, by central differences of S (k3 on G01: S01 = ½k3 G01).
 std::array<double, 4> rest_stiffness(const shell::InplaneParams& params) {
   const shell::InplaneMaterial law(params, 0.0);

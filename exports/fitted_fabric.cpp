@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "fabrics_db/records/fabric_hash.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "numerics/roots/bisection.hpp"
@@ -112,6 +114,12 @@ double comfort_stretch(const FittedFabric& fabric, const std::string& direction)
   for (const auto& d : fabric.shell.directions)
     if (d.direction == direction && dir) return comfort_end(fabric.params.inplane, db::pull_angle(*dir), d.fitted_max_stretch);
   return 0.0;
+}
+
+Eigen::Matrix2d law_stress(const shell::InplaneMaterial& law, const Eigen::Matrix2d& G) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(2.0 * G + Eigen::Matrix2d::Identity());
+  const Eigen::Matrix2d F = eig.operatorSqrt();
+  return F.inverse() * law.pk1(F);
 }
 
 double fitted_range_end(const FittedFabric& fabric, double angle) {

@@ -11,10 +11,13 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "fabrics_db/records/fabric.hpp"
 #include "results/shell_fit_file.hpp"
 #include "results/yarn_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
+#include "shell_fit/energies/inplane_material.hpp"
 
 namespace yarnfit::exports {
 
@@ -53,6 +56,10 @@ struct FittedFabric {
 // The end of the fitted stretch range along a pull angle [rad] from the weft: the tested
 // directions' interpolated linearly in angle (held beyond the first and the last).
 [[nodiscard]] double fitted_range_end(const FittedFabric& fabric, double angle);
+// The law's second Piola–Kirchhoff stress [N/m] at the material-frame Green strain G: the
+// stretch F = √(2G + I) without rotation, S = F⁻¹P(F).
+[[nodiscard]] Eigen::Matrix2d law_stress(const shell::InplaneMaterial& law, const Eigen::Matrix2d& G);
+
 inline constexpr double k_comfort_line_force = 2.0 / 0.06;  // 2 N on the thesis's 6 cm swatch [N/m]
 
 }  // namespace yarnfit::exports

@@ -1,11 +1,11 @@
 #include "exports/strain_table.hpp"
 
-#include <cstdio>
 
 #include <Eigen/Dense>
 
 #include "shell_fit/energies/inplane_material.hpp"
 #include "calibration/problem/generated_pattern.hpp"
+#include "numerics/util/format.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 #include "yarn_fit/scenes/sample_json.hpp"
 #include "yarn_fit/scenes/yarn_scene.hpp"
@@ -31,14 +31,12 @@ std::vector<StressRow> stress_rows(const shell::InplaneParams& law_params) {
         StressRow r{k_normal_from + i * k_step, k_normal_from + j * k_step, k * k_step};
         Eigen::Matrix2d G;
         G << r.e11, r.e12, r.e12, r.e22;
-        // F = √(2E + I), the stretch without rotation; S = F⁻¹P.
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(2.0 * G + Eigen::Matrix2d::Identity());
-        const Eigen::Matrix2d F = eig.operatorSqrt();
-        const Eigen::Matrix2d S = F.inverse() * law.pk1(F);
+        const Eigen::Matrix2d S = law_stress(law, G);
         r.s11 = S(0, 0);
         r.s22 = S(1, 1);
         r.s12 = S(0, 1);
-        r.psi = law.psi(F);
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(2.0 * G + Eigen::Matrix2d::Identity());
+        r.psi = law.psi(eig.operatorSqrt());
         rows.push_back(r);
       }
   return rows;
@@ -68,11 +66,7 @@ void add_yarn_uniaxial(const results::YarnFitFile& yarn, std::vector<UniaxialRow
     }
 }
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string number(double v) { return numerics::format_number(v, 10); }
 
 // The tile the yarn fit ran on: the record's, or its knit's generated tile in `tile_cache`
 // (found there, never generated here). Empty with the reason in `why`.

@@ -24,6 +24,7 @@
 #include "shell_fit/mesh/rect_mesh.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 #include "tests/example_fabric.hpp"
+#include "tests/exports/kept_fits.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::exports {
@@ -38,26 +39,7 @@ using yarnfit::testing::run_cli;
 using yarnfit::testing::ScratchDir;
 using yarnfit::testing::write_file;
 
-const fs::path k_data = fs::path(YARNFIT_SOURCE_DIR) / "tests/exports/data";
-
-// A fit folder holding the kept shell_fit.json `name`; "<name>_thesis" is the same fabric's
-// fit with eq. 6.1 alone (the thesis-model fit a stiffening fit starts from, which its file keeps).
-fs::path fit_folder(const ScratchDir& dir, const std::string& name) {
-  const fs::path folder = dir / name;
-  fs::create_directories(folder);
-  const std::string suffix = "_thesis";
-  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
-    json file = json::parse(read_file(k_data / (name.substr(0, name.size() - suffix.size()) + "_shell_fit.json")));
-    json params = file["thesis_model_fit"]["params"];
-    for (const char* k : {"ktheta_weft", "ktheta_bias", "ktheta_warp"}) params[k] = file["params"][k];
-    file["params"] = params;
-    file["model"] = "thesis";
-    write_file(folder / "shell_fit.json", file.dump());
-  } else {
-    fs::copy_file(k_data / (name + "_shell_fit.json"), folder / "shell_fit.json");
-  }
-  return folder;
-}
+using testing::fit_folder;
 
 // ARCSim's stretching model as it runs: the 30³ samples of evaluate_stretching_samples and the
 // trilinear lookup of stretching_stiffness (dde.cpp), on the file's 6 × 4.

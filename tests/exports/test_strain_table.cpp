@@ -14,6 +14,7 @@
 #include "exports/strain_table.hpp"
 #include "shell_fit/energies/inplane_material.hpp"
 #include "tests/example_fabric.hpp"
+#include "tests/exports/kept_fits.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::exports {
@@ -26,16 +27,10 @@ using yarnfit::testing::read_file;
 using yarnfit::testing::run_cli;
 using yarnfit::testing::ScratchDir;
 
-const fs::path k_data = fs::path(YARNFIT_SOURCE_DIR) / "tests/exports/data";
+using testing::k_data;
 
 // The bundled example's kept fit (shell and yarn stages), as a fit folder.
-fs::path demo_fit(const ScratchDir& dir) {
-  const fs::path folder = dir / "stockinette_demo";
-  fs::create_directories(folder);
-  fs::copy_file(k_data / "stockinette_demo_shell_fit.json", folder / "shell_fit.json");
-  fs::copy_file(k_data / "stockinette_demo_yarn_fit.json", folder / "yarn_fit.json");
-  return folder;
-}
+fs::path demo_fit(const ScratchDir& dir) { return testing::fit_folder(dir, "stockinette_demo", true); }
 
 // The line force of `model`'s pull along `direction` at stretch s, linear between the rows.
 double table_force(const StrainTable& t, const std::string& model, const std::string& direction, double s) {
