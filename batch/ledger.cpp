@@ -258,4 +258,19 @@ void Ledger::requeue(const std::string& fabric_id, const std::string& why, doubl
   });
 }
 
+bool Ledger::forget_job(const std::string& fabric_id, const std::string& why, double now) {
+  bool forgot = false;
+  transaction([&] {
+    Statement active(m_db, m_file, "SELECT 1 FROM jobs WHERE fabric_id = ?1 AND status IN ('queued', 'running')");
+    if (active.bind(1, fabric_id).step()) return;
+    Statement results(m_db, m_file, "DELETE FROM results WHERE fabric_id = ?1");
+    results.bind(1, fabric_id).run();
+    Statement jobs(m_db, m_file, "DELETE FROM jobs WHERE fabric_id = ?1");
+    jobs.bind(1, fabric_id).run();
+    log_event(fabric_id, "deleted", why, host_name(), static_cast<long>(getpid()), now);
+    forgot = true;
+  });
+  return forgot;
+}
+
 }  // namespace yarnfit::batch

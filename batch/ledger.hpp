@@ -12,7 +12,7 @@
 //            stress_comfort_pct, stress_full_pct), every fitted parameter, evaluations,
 //            seconds; `params` holds the stage's params object as JSON
 //   events   what happened, in order: queued, changed, started, taken_over, done, failed,
-//            invalid, interrupted — an audit trail (a fabric finished twice would show two
+//            invalid, interrupted, deleted — an audit trail (a fabric finished twice would show two
 //            `done` events for one hash)
 //   meta     schema_version, created_by
 //
@@ -107,6 +107,9 @@ class Ledger {
                   const std::vector<ResultRow>& rows, double now);
   // running → queued (the batch was interrupted; the next run resumes it).
   void requeue(const std::string& fabric_id, const std::string& why, double now);
+  // Removes a job that has ended (done or failed) and its results, logging `deleted` with
+  // `why`; false (and nothing changed) when the job is queued or running. Its events stay.
+  bool forget_job(const std::string& fabric_id, const std::string& why, double now);
 
  private:
   Ledger(const std::filesystem::path& file, bool read_only);

@@ -3,11 +3,18 @@
 // only; bounded in count (REQUESTS) and time (the clients stop after 300 s whatever is left).
 //
 //   build/bench/bench_service [CLIENTS [REQUESTS]]
+//   build/bench/bench_service starve [POLLERS [SILENT [SECONDS]]]
 //
 // Starts the service in this process on 127.0.0.1:<any port> over a fresh data folder (two
 // fits of the bundled example records with the quick budget, `--jobs 2`, one thread each),
 // runs the clients, prints the latency percentiles by kind of request and the errors, and
 // stops the service (the fits are stopped with it).
+//
+// `starve` (issue 47's goal: /healthz within 1 s beside 200 silent connections, the job list's
+// p99 ≤ 100 ms with 50 polling clients): POLLERS clients (50) poll the job list and /healthz
+// for SECONDS (10), first alone, then beside SILENT connections (200, from 50 loopback
+// addresses 127.0.2.x) that send nothing and reconnect whenever the server closes them; a
+// prober times /healthz on a fresh connection every 50 ms. Prints p50/p99/max per phase.
 
 #include <algorithm>
 #include <atomic>
@@ -21,6 +28,11 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <archive.h>
 #include <archive_entry.h>
@@ -92,9 +104,156 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(i, v.size() - 1)];
 }
 
+// A connection to 127.0.0.1:port from loopback address `from`; -1 when it fails.
+int connect_from(int port, const std::string& from) {
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in local{};
+  local.sin_family = AF_INET;
+  ::inet_pton(AF_INET, from.c_str(), &local.sin_addr);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::bind(s, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0 ||
+      ::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(s);
+    return -1;
+  }
+  timeval tv{30, 0};
+  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  return s;
+}
+
+// GET /healthz on a fresh connection: milliseconds to the whole answer, and whether it was 200.
+std::pair<double, bool> probe_healthz(int port) {
+  const auto t0 = Clock::now();
+  const int s = connect_from(port, "127.0.0.1");
+  if (s < 0) return {std::chrono::duration<double, std::milli>(Clock::now() - t0).count(), false};
+  const std::string request = "GET /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+  ::send(s, request.data(), request.size(), MSG_NOSIGNAL);
+  std::string answer;
+  char buf[1024];
+  for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) answer.append(buf, static_cast<std::size_t>(n));
+  ::close(s);
+  return {std::chrono::duration<double, std::milli>(Clock::now() - t0).count(), answer.rfind("HTTP/1.1 200", 0) == 0};
+}
+
+void print_row(const char* phase, const char* what, const std::vector<double>& ms, int errors) {
+  std::printf("%-22s %-10s %7zu %6d %9.2f %9.2f %9.2f\n", phase, what, ms.size(), errors, percentile(ms, 50),
+              percentile(ms, 99), percentile(ms, 100));
+}
+
+// The `starve` scenario (see the top of the file).
+int starve(int pollers, int silent, int seconds) {
+  const fs::path data = fs::temp_directory_path() / ("yarnfit_bench_starve_" + std::to_string(::getpid()));
+  fs::remove_all(data);
+  std::string token;
+  {
+    yarnfit::service::Accounts accounts((fs::create_directories(data), data / "accounts.db"));
+    token = accounts.add_user("bench", false).token;
+  }
+  yarnfit::service::ServiceOptions o;
+  o.port = 0;
+  auto service = std::make_unique<yarnfit::service::FittingService>(data, o);
+  const int port = service->bind();
+  std::thread server([&] { service->run(); });
+  httplib::Client setup("127.0.0.1", port);
+  setup.set_bearer_token_auth(token.c_str());
+  if (const auto up = setup.Post("/api/v1/fabrics", zipped("stockinette_demo", "stockinette_demo"), "application/zip");
+      !up || up->status != 201) {
+    std::fprintf(stderr, "bench_service: the upload failed\n");
+    return 1;
+  }
+
+  std::printf("bench_service starve: %d polling clients, %d silent connections, %d s a phase\n", pollers, silent, seconds);
+  std::printf("%-22s %-10s %7s %6s %9s %9s %9s\n", "phase", "request", "count", "errors", "p50 ms", "p99 ms", "max ms");
+  std::vector<double> worst_healthz, list_p99;
+  for (const bool with_silent : {false, true}) {
+    std::atomic<bool> stop{false};
+    std::vector<std::thread> attackers;
+    std::atomic<long> reconnects{0};
+    if (with_silent)
+      for (int i = 0; i < silent; ++i)
+        attackers.emplace_back([&, i] {
+          // Send nothing; when the server closes, come back at once.
+          const std::string from = "127.0.2." + std::to_string(1 + i % 50);
+          while (!stop) {
+            const int s = connect_from(port, from);
+            if (s < 0) {
+              std::this_thread::sleep_for(std::chrono::milliseconds(100));
+              continue;
+            }
+            timeval tv{0, 200000};
+            ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+            char c;
+            while (!stop) {
+              const ssize_t n = ::recv(s, &c, 1, 0);
+              if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) break;
+            }
+            ::close(s);
+            ++reconnects;
+          }
+        });
+    std::this_thread::sleep_for(std::chrono::milliseconds(with_silent ? 500 : 0));  // the silent ones are in
+    std::mutex mutex;
+    std::vector<double> list_ms, health_ms;
+    int list_errors = 0, health_errors = 0;
+    const auto until = Clock::now() + std::chrono::seconds(seconds);
+    std::vector<std::thread> threads;
+    for (int c = 0; c < pollers; ++c)
+      threads.emplace_back([&] {
+        httplib::Client client("127.0.0.1", port);
+        client.set_bearer_token_auth(token.c_str());
+        client.set_keep_alive(true);
+        client.set_read_timeout(60, 0);
+        std::vector<double> mine;
+        int errors = 0;
+        while (Clock::now() < until) {
+          const auto t0 = Clock::now();
+          const auto r = client.Get("/api/v1/jobs");
+          mine.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+          errors += !r || r->status != 200;
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a page polls, it does not hammer
+        }
+        const std::lock_guard lock(mutex);
+        list_ms.insert(list_ms.end(), mine.begin(), mine.end());
+        list_errors += errors;
+      });
+    threads.emplace_back([&] {
+      while (Clock::now() < until) {
+        const auto [ms, ok] = probe_healthz(port);
+        const std::lock_guard lock(mutex);
+        health_ms.push_back(ms);
+        health_errors += !ok;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    });
+    for (auto& t : threads) t.join();
+    stop = true;
+    for (auto& t : attackers) t.join();
+    const char* phase = with_silent ? "beside silent conns" : "pollers alone";
+    print_row(phase, "job list", list_ms, list_errors);
+    print_row(phase, "/healthz", health_ms, health_errors);
+    if (with_silent) std::printf("%-22s silent connections closed by the server and reopened: %ld\n", "", reconnects.load());
+    worst_healthz.push_back(percentile(health_ms, 100));
+    list_p99.push_back(percentile(list_ms, 99));
+  }
+  const bool met = worst_healthz.back() <= 1000 && list_p99.front() <= 100 && list_p99.back() <= 100;
+  std::printf("goal: /healthz within 1 s beside %d silent connections (max %.1f ms), job list p99 <= 100 ms with %d clients "
+              "(%.1f ms alone, %.1f ms beside): %s\n",
+              silent, worst_healthz.back(), pollers, list_p99.front(), list_p99.back(), met ? "met" : "MISSED");
+  service->stop();
+  server.join();
+  service.reset();
+  fs::remove_all(data);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "starve")
+    return starve(argc > 2 ? std::stoi(argv[2]) : 50, argc > 3 ? std::stoi(argv[3]) : 200, argc > 4 ? std::stoi(argv[4]) : 10);
   const int clients = argc > 1 ? std::stoi(argv[1]) : 16;
   const int requests = argc > 2 ? std::stoi(argv[2]) : 2000;
   const int uploads = 20;

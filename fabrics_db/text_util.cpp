@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -43,6 +44,77 @@ bool read_text_file(const std::filesystem::path& file, std::string& text, std::s
   }
   text = ss.str();
   return true;
+}
+
+bool valid_utf8(std::string_view s, std::size_t* bad_at) {
+  const auto bad = [&](std::size_t i) {
+    if (bad_at != nullptr) *bad_at = i;
+    return false;
+  };
+  for (std::size_t i = 0; i < s.size();) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    std::size_t n = 0;
+    std::uint32_t code = 0;
+    if (b < 0x80) {
+      ++i;
+      continue;
+    }
+    if (b >= 0xc2 && b <= 0xdf) n = 1, code = b & 0x1fu;
+    else if (b >= 0xe0 && b <= 0xef) n = 2, code = b & 0x0fu;
+    else if (b >= 0xf0 && b <= 0xf4) n = 3, code = b & 0x07u;
+    else return bad(i);
+    for (std::size_t k = 1; k <= n; ++k) {
+      if (i + k >= s.size()) return bad(i);
+      const auto c = static_cast<unsigned char>(s[i + k]);
+      if ((c & 0xc0u) != 0x80u) return bad(i);
+      code = (code << 6) | (c & 0x3fu);
+    }
+    const std::uint32_t least[] = {0, 0x80, 0x800, 0x10000};
+    if (code < least[n] || code > 0x10ffff || (code >= 0xd800 && code <= 0xdfff)) return bad(i);
+    i += n + 1;
+  }
+  return true;
+}
+
+std::filesystem::path file_inside_folder(const std::filesystem::path& folder, const std::string& name,
+                                         std::string& why) {
+  namespace fs = std::filesystem;
+  if (name.find('\0') != std::string::npos || !valid_utf8(name)) {
+    why = "the name is not valid UTF-8 text";
+    return {};
+  }
+  const fs::path given(name);
+  if (given.is_absolute() || given.has_root_name() || given.has_root_directory()) {
+    why = "an absolute path: a record names its files relative to its own folder";
+    return {};
+  }
+  const fs::path normal = given.lexically_normal();
+  if (normal.empty() || *normal.begin() == ".." || normal == ".") {
+    why = "'" + name + "' leaves the record's folder: a record names files inside its own folder";
+    return {};
+  }
+  const fs::path file = folder / normal;
+  std::error_code ec;
+  const fs::file_status status = fs::status(file, ec);
+  if (!fs::exists(status)) {
+    why = "cannot read '" + name + "': no such file in the record's folder";
+    return {};
+  }
+  // A link (or a linked folder on the way) may point anywhere: the file must be inside the
+  // folder once every link is resolved.
+  std::error_code real_ec, home_ec;
+  const fs::path real = fs::canonical(file, real_ec);
+  const fs::path home = fs::canonical(folder, home_ec);
+  const bool inside = std::mismatch(home.begin(), home.end(), real.begin(), real.end()).first == home.end();
+  if (real_ec || home_ec || !inside) {
+    why = "'" + name + "' is a link that leaves the record's folder: a record names files inside its own folder";
+    return {};
+  }
+  if (!fs::is_regular_file(status)) {
+    why = "cannot read '" + name + "': not a regular file";
+    return {};
+  }
+  return file;
 }
 
 void write_text_file_atomically(const std::filesystem::path& file, const std::string& text) {

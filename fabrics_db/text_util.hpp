@@ -21,6 +21,15 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
 // "a, b and c"
 std::string join_words(const std::vector<std::string>& words, std::string_view last = " or ");
+// True when `s` is well-formed UTF-8 (no stray continuation bytes, no overlong forms, no
+// surrogates, nothing past U+10FFFF); `bad_at` gets the offset of the first bad byte.
+bool valid_utf8(std::string_view s, std::size_t* bad_at = nullptr);
+// The file a record names `name`, inside `folder` (SPEC §2: a relative name that leaves the
+// folder neither by ".." nor through a link; a record arrives from strangers over HTTP). Empty,
+// with `why` saying what is wrong with the name (never anything read from another file), when
+// the name is not such a file.
+std::filesystem::path file_inside_folder(const std::filesystem::path& folder, const std::string& name,
+                                         std::string& why);
 // printf-style "%.<digits>g" of a double.
 std::string format_g(double value, int digits = 6);
 // The shortest text that reads back as exactly `value`: 0.1, not 0.10000000000000001.

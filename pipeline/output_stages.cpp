@@ -63,6 +63,9 @@ class ReportStage final : public OutputStage {
            const PlanObserver& observer) const override {
     if (observer) observer({Stage::report, fabric_id, reports::Progress{}});
     std::vector<reports::RunOutputs> runs{reports::read_fit_folders(plan.out)};
+    // The report lies in the folder it describes: its name says enough, and a fit run for
+    // someone else (the service's) shows nothing of where the server keeps it.
+    runs.front().source = plan.out.filename();
     const reports::ReportData data = reports::make_report_data(std::move(runs));
     result.report_index = reports::write_report(data, plan.out / "report");
     result.outputs.text += reports::report_written_line(data, result.report_index);

@@ -83,6 +83,10 @@ class YamlChecker {
       problem(k, join(path, key), "expected a non-empty text value, got " + kind(v));
       return std::nullopt;
     }
+    if (std::size_t at = 0; !valid_utf8(v.Scalar(), &at)) {
+      problem(k, join(path, key), "not valid UTF-8 text (byte " + std::to_string(at + 1) + " of the value)");
+      return std::nullopt;
+    }
     return v.Scalar();
   }
 
@@ -169,17 +173,16 @@ std::optional<Gauge> read_gauge(YamlChecker& y, const YAML::Node& node, const st
   return g;
 }
 
-// A folder-relative file named under `key`; checks that it can be read.
+// The file named under `file`, inside the record's folder (SPEC §2). A problem names the field
+// and the name as written, never the folder's place on the disk nor anything of another file.
 std::optional<fs::path> read_file_ref(YamlChecker& y, const YAML::Node& map, const std::string& path,
                                       const fs::path& folder) {
   const auto name = y.text(map, "file", path, true);
   if (!name) return std::nullopt;
-  const fs::path file = fs::path(*name).is_absolute() ? fs::path(*name) : folder / *name;
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) {
-    y.problem(YamlChecker::find(map, "file").first, YamlChecker::join(path, "file"),
-              "cannot read '" + file.string() + "': " +
-                  (fs::exists(file, ec) ? "not a regular file" : "no such file"));
+  std::string why;
+  fs::path file = file_inside_folder(folder, *name, why);
+  if (file.empty()) {
+    y.problem(YamlChecker::find(map, "file").first, YamlChecker::join(path, "file"), why);
     return std::nullopt;
   }
   return file;
@@ -274,7 +277,7 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
   auto tile = read_pyp(*file, tile_problems);
   if (!tile) {
     y.problem(YamlChecker::find(node, "file").first, "pattern.file",
-              "unreadable pattern '" + file->string() + "' (" + std::to_string(tile_problems.size()) +
+              "unreadable pattern '" + node["file"].Scalar() + "' (" + std::to_string(tile_problems.size()) +
                   " problem" + (tile_problems.size() == 1 ? "" : "s") + ", listed below)");
     problems.append(tile_problems);
     return;
@@ -285,7 +288,7 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
     ref.facts = compute_tile_facts(*tile);
   } catch (const std::invalid_argument& e) {
     y.problem(YamlChecker::find(node, "file").first, "pattern.file",
-              "pattern '" + file->string() + "' has an impossible geometry: " + e.what());
+              "pattern '" + node["file"].Scalar() + "' has an impossible geometry: " + e.what());
     return;
   }
   ref.file = *file;

@@ -2,7 +2,9 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -12,10 +14,12 @@
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+#include <openssl/evp.h>
 
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "service/accounts/accounts.hpp"
+#include "service/http/gated_server.hpp"
 #include "service/http/page_html.hpp"
 #include "service/http/request_metrics.hpp"
 #include "service/upload/unpack_zygote.hpp"
@@ -28,9 +32,13 @@ using nlohmann::json;
 
 namespace {
 
+// JSON text of `j`; a byte that is not UTF-8 (in a record stored before records were checked
+// for it, or quoted from a refused one) becomes U+FFFD instead of failing the answer.
+std::string json_text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 void reply(httplib::Response& res, int status, const json& body) {
   res.status = status;
-  res.set_content(body.dump() + "\n", "application/json");
+  res.set_content(json_text(body) + "\n", "application/json");
 }
 
 void refuse(httplib::Response& res, int status, const std::string& error, const json& problems = json::array()) {
@@ -60,6 +68,29 @@ std::vector<std::string> files_of(const fs::path& folder) {
   return out;
 }
 
+// The page's Content-Security-Policy: its one inline script allowed by its SHA-256 (CSP level 2),
+// no other script; it talks to this server only. Inline styles stay allowed: the reports the
+// page opens (blob: windows, which inherit this policy) are styled inline, and a style runs nothing.
+std::string page_policy() {
+  const std::string page = page_html();
+  const auto hash_of = [&](const std::string& open, const std::string& close) {
+    const std::size_t from = page.find(open);
+    const std::size_t to = page.find(close, from);
+    if (from == std::string::npos || to == std::string::npos) throw std::logic_error("the page has no " + open);
+    const std::string body = page.substr(from + open.size(), to - from - open.size());
+    unsigned char digest[EVP_MAX_MD_SIZE];
+    unsigned int length = 0;
+    if (EVP_Digest(body.data(), body.size(), digest, &length, EVP_sha256(), nullptr) != 1)
+      throw std::runtime_error("cannot hash the page's script (OpenSSL)");
+    std::string base64(4 * ((length + 2) / 3) + 1, '\0');
+    base64.resize(static_cast<std::size_t>(EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()), digest, static_cast<int>(length))));
+    return "'sha256-" + base64 + "'";
+  };
+  return "default-src 'none'; script-src " + hash_of("<script>", "</script>") +
+         "; style-src 'unsafe-inline'; connect-src 'self'; img-src 'self' data:; frame-ancestors 'none'; base-uri 'none'; "
+         "form-action 'none'";
+}
+
 }  // namespace
 
 // The route a request took, for the metrics: set by the handler's wrapper on the thread that
@@ -75,7 +106,7 @@ struct FittingService::Impl {
   std::mutex accounts_mutex;  // one SQLite connection, handlers on many threads
   FitJobs jobs;
   RequestMetrics metrics;
-  httplib::Server http;
+  GatedServer http;
   std::vector<Route> registered;
   std::mutex streams_mutex;  // the event streams open, by user and in all
   std::map<std::string, int> streams_of;
@@ -87,8 +118,13 @@ struct FittingService::Impl {
         options(std::move(o)),
         unpacker(options.upload, options.isolation),
         accounts((fs::create_directories(data), data / "accounts.db")),
-        jobs(data, options.jobs) {
+        jobs(data, options.jobs),
+        http(options.connections, options.read_timeout_s, options.write_timeout_s) {
     fs::create_directories(data / "fabrics");
+    // DATA_DIR/uploads holds only what is being unpacked or deleted now; what is there at start
+    // (this service holds DATA_DIR/runs: no other one is using it) a crash left behind.
+    std::error_code ec;
+    fs::remove_all(data / "uploads", ec);
     fs::create_directories(data / "uploads");
     routes();
   }
@@ -114,14 +150,29 @@ struct FittingService::Impl {
     return out;
   }
 
-  // The owner and folder of fabric `id` as `who` may see it: their own first, then (an admin)
-  // anyone's. None for a name that cannot be an id, a missing fabric or another user's.
-  std::optional<std::pair<std::string, fs::path>> fabric(const Account& who, const std::string& id) {
-    if (!usable_id(id)) return std::nullopt;
-    std::optional<std::pair<std::string, fs::path>> found;
-    for (auto& [owner, folder] : visible(who))
-      if (folder.filename() == id && (!found || owner == who.name)) found.emplace(owner, folder);
-    return found;
+  // The owner and folder of fabric `id` as `who` may address it: a user their own; an admin the
+  // one of `?owner=NAME`, else their own, else the only one of that id. None (after a 404, or a
+  // 409 when an admin's id names several users' fabrics) otherwise; another user's fabric
+  // answers 404, as a missing one does.
+  std::optional<std::pair<std::string, fs::path>> fabric(const Account& who, const httplib::Request& req,
+                                                         const std::string& id, httplib::Response& res,
+                                                         const std::string& what = "fabric") {
+    const std::string owner = req.get_param_value("owner");
+    std::vector<std::pair<std::string, fs::path>> found;
+    if (usable_id(id))
+      for (auto& [o, folder] : visible(who))
+        if (folder.filename() == id && (owner.empty() || o == owner)) found.emplace_back(o, folder);
+    const auto own = std::find_if(found.begin(), found.end(), [&](const auto& f) { return f.first == who.name; });
+    if (own != found.end()) return *own;
+    if (found.size() == 1) return found.front();
+    if (found.empty()) {
+      refuse(res, 404, (what == "fabric" ? "no fabric '" : "no fit of '") + id + "'");
+      return std::nullopt;
+    }
+    std::vector<std::string> owners;
+    for (const auto& f : found) owners.push_back(f.first);
+    refuse(res, 409, "'" + id + "' names fabrics of several users (" + join(owners) + "): add ?owner=NAME");
+    return std::nullopt;
   }
 
   // The upload's body, read after the caller was authenticated (a stranger's 32 MiB are never
@@ -136,7 +187,7 @@ struct FittingService::Impl {
     std::string body;
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(options.upload_timeout_s);
     bool late = false, large = false;
-    reader([&](const char* bytes, std::size_t n) {
+    const bool whole = reader([&](const char* bytes, std::size_t n) {
       large = body.size() + n > limit;
       if (!large) body.append(bytes, n);
       late = std::chrono::steady_clock::now() > until;
@@ -144,6 +195,13 @@ struct FittingService::Impl {
     });
     if (large) return refuse(res, 413, too_large), std::nullopt;
     if (late) return refuse(res, 408, "the upload did not arrive within " + std::to_string(options.upload_timeout_s) + " s"), std::nullopt;
+    // Only a body that arrived whole is unpacked: one cut short (the client went silent past the
+    // read timeout, or closed its side) could be an archive cut at an entry's end, which reads
+    // as a smaller record.
+    const bool declared = req.has_header("Content-Length");
+    if (!whole || (declared && body.size() != req.get_header_value<uint64_t>("Content-Length")))
+      return refuse(res, 400, "the upload stopped after " + std::to_string(body.size()) + " bytes, before its end; nothing was kept"),
+             std::nullopt;
     res.headers.erase("Connection");
     return body;
   }
@@ -155,6 +213,13 @@ struct FittingService::Impl {
     std::random_device rd;
     const fs::path staging = data / "uploads" / (who.name + "-" + std::to_string(rd()) + std::to_string(rd()));
     const UnpackedUpload unpacked = unpacker.unpack(*body, staging);
+    if (!unpacked.ok && unpacked.refusal.status >= 500) {
+      // The server's own trouble (its disk, its helper): said in its log, not to the client,
+      // whom the folder's place does not concern.
+      std::fprintf(stderr, "yarnfit serve: an upload of %s could not be unpacked: %s\n", who.name.c_str(),
+                   unpacked.refusal.message.c_str());
+      return refuse(res, 500, "the server cannot store the upload now; try again later");
+    }
     if (!unpacked.ok) return refuse(res, unpacked.refusal.status, unpacked.refusal.message);
     std::error_code ec;
     const db::FabricLoad load = db::load_fabric(staging);
@@ -172,7 +237,7 @@ struct FittingService::Impl {
       return refuse(res, 422, "fabric.yaml: id: '" + load.fabric->id + "' cannot name a folder (A-Z a-z 0-9 . _ -)");
     }
     const fs::path home = data / "fabrics" / who.name;
-    fs::create_directories(home);
+    fs::create_directories(home, ec);
     const fs::path target = home / load.fabric->id;
     if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, target.c_str(), RENAME_NOREPLACE) != 0) {
       fs::remove_all(staging, ec);
@@ -182,20 +247,24 @@ struct FittingService::Impl {
   }
 
   void start_fit(const Account& who, const httplib::Request& req, httplib::Response& res) {
-    const auto f = fabric(who, req.matches[1]);
-    if (!f) return refuse(res, 404, "no fabric '" + std::string(req.matches[1]) + "'");
+    const auto f = fabric(who, req, req.matches[1], res);
+    if (!f) return;
     const json body = req.body.empty() ? json::object() : json::parse(req.body, nullptr, false);
     if (body.is_discarded()) return refuse(res, 400, "the body is not JSON");
     const JobAnswer a = jobs.start(f->first, f->second.filename().string(), f->second, body);
     reply(res, a.status, a.body);
   }
 
-  // The job of fabric `id` as `who` may see it, with its owner.
-  std::optional<std::pair<std::string, json>> job(const Account& who, const std::string& id) {
-    const auto f = fabric(who, id);
+  // The job of fabric `id` as `who` may address it, with its owner; none after a refusal.
+  std::optional<std::pair<std::string, json>> job(const Account& who, const httplib::Request& req, const std::string& id,
+                                                  httplib::Response& res) {
+    const auto f = fabric(who, req, id, res, "fit");
     if (!f) return std::nullopt;
     auto j = jobs.job(f->first, id);
-    if (!j) return std::nullopt;
+    if (!j) {
+      refuse(res, 404, "no fit of '" + id + "'");
+      return std::nullopt;
+    }
     return std::make_pair(f->first, std::move(*j));
   }
 
@@ -204,8 +273,8 @@ struct FittingService::Impl {
   // every 15 s of a queued job keeps proxies from closing a quiet stream.
   void events(const Account& who, const httplib::Request& req, httplib::Response& res) {
     const std::string id = req.matches[1];
-    const auto j = job(who, id);
-    if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+    const auto j = job(who, req, id, res);
+    if (!j) return;
     // A stream holds one of the server's threads until its job ends: a user's and everyone's
     // open streams are bounded below the pool, so that streams cannot starve other requests.
     struct Stream {
@@ -245,10 +314,10 @@ struct FittingService::Impl {
       const std::string state = (*now)["state"];
       const bool ended = state == "done" || state == "failed" || state == "cancelled";
       const auto t = std::chrono::steady_clock::now();
-      if (changes.dump() != stream->last || (state == "running" && t - stream->sent > std::chrono::seconds(5))) {
-        const std::string event = "event: job\ndata: " + now->dump() + "\n\n";
+      if (json_text(changes) != stream->last || (state == "running" && t - stream->sent > std::chrono::seconds(5))) {
+        const std::string event = "event: job\ndata: " + json_text(*now) + "\n\n";
         if (!sink.write(event.data(), event.size())) return false;
-        stream->last = changes.dump();
+        stream->last = json_text(changes);
         stream->sent = t;
         stream->quiet = 0;
       } else if (++stream->quiet % 60 == 0 && !sink.write(": waiting\n\n", 11)) {
@@ -265,8 +334,8 @@ struct FittingService::Impl {
 
   void result_file(const Account& who, const httplib::Request& req, httplib::Response& res) {
     const std::string id = req.matches[1], name = req.matches[2];
-    const auto j = job(who, id);
-    if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+    const auto j = job(who, req, id, res);
+    if (!j) return;
     std::vector<std::string> names;
     for (const auto& [file, path] : downloadable_files(id)) {
       if (file == name) return serve_file(res, jobs.output_folder(j->first, id) / path, name);
@@ -286,6 +355,11 @@ struct FittingService::Impl {
                        : ext == ".u3ma" ? "application/zip"
                                         : "text/plain; charset=utf-8";
     res.status = 200;
+    // A report is a page of the user's own names: it may show itself, run nothing and load nothing.
+    if (ext == ".html")
+      res.set_header("Content-Security-Policy",
+                     "default-src 'none'; style-src 'unsafe-inline'; img-src data:; frame-ancestors 'none'; "
+                     "base-uri 'none'; form-action 'none'; sandbox");
     res.set_content(text, type);
   }
 
@@ -329,11 +403,11 @@ struct FittingService::Impl {
 
   void routes() {
     const std::string get = "GET", post = "POST", del = "DELETE";
-    http.new_task_queue = [] { return new httplib::ThreadPool(32); };  // event streams hold a thread each
     http.set_tcp_nodelay(true);  // small JSON answers: Nagle's wait for an ACK costs 40 ms each
-    http.set_read_timeout(options.read_timeout_s, 0);
-    http.set_write_timeout(options.write_timeout_s, 0);
     http.set_payload_max_length(options.upload.max_archive_bytes);
+    // Every answer, the gate's and httplib's own refusals included: a browser takes a body for
+    // what its Content-Type says, never for what it looks like.
+    http.set_default_headers({{"X-Content-Type-Options", "nosniff"}});
     on(get, "/healthz", "/healthz", [this](const httplib::Request&, httplib::Response& res) {
       const std::string why = jobs.engine_problem();
       if (why.empty()) return res.set_content("ok\n", "text/plain");
@@ -342,9 +416,8 @@ struct FittingService::Impl {
     });
     on(get, "/", "/", [](const httplib::Request&, httplib::Response& res) {
       // Everything the page needs is in it; it talks to this server only.
-      res.set_header("Content-Security-Policy",
-                     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; connect-src 'self'; "
-                     "img-src 'self' data:; frame-ancestors 'none'");
+      static const std::string policy = page_policy();
+      res.set_header("Content-Security-Policy", policy);
       res.set_content(page_html(), "text/html; charset=utf-8");
     });
     on(get, "/metrics", "/metrics", [this](const Account& who, const httplib::Request&, httplib::Response& res) {
@@ -366,10 +439,17 @@ struct FittingService::Impl {
     on(get, R"(/api/v1/fabrics/([^/]+))", "/api/v1/fabrics/{id}",
        [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
          const std::string id = req.matches[1];
-         const auto f = fabric(who, id);
-         if (!f) return refuse(res, 404, "no fabric '" + id + "'");
+         const auto f = fabric(who, req, id, res);
+         if (!f) return;
          const db::FabricLoad load = db::load_fabric(f->second);
          reply(res, 200, {{"id", id}, {"family", load.family}, {"owner", f->first}, {"files", files_of(f->second)}});
+       });
+    on(del, R"(/api/v1/fabrics/([^/]+))", "/api/v1/fabrics/{id}",
+       [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
+         const auto f = fabric(who, req, req.matches[1], res);
+         if (!f) return;
+         const JobAnswer a = jobs.delete_fabric(f->first, f->second.filename().string(), f->second);
+         reply(res, a.status, a.body);
        });
     on(post, R"(/api/v1/fabrics/([^/]+)/fits)", "/api/v1/fabrics/{id}/fits",
        [this](const Account& who, const httplib::Request& req, httplib::Response& res) { start_fit(who, req, res); });
@@ -378,15 +458,15 @@ struct FittingService::Impl {
     });
     on(get, R"(/api/v1/jobs/([^/]+))", "/api/v1/jobs/{id}",
        [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
-         const auto j = job(who, req.matches[1]);
-         if (!j) return refuse(res, 404, "no fit of '" + std::string(req.matches[1]) + "'");
+         const auto j = job(who, req, req.matches[1], res);
+         if (!j) return;
          reply(res, 200, j->second);
        });
     on(del, R"(/api/v1/jobs/([^/]+))", "/api/v1/jobs/{id}",
        [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
          const std::string id = req.matches[1];
-         const auto j = job(who, id);
-         if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+         const auto j = job(who, req, id, res);
+         if (!j) return;
          const JobAnswer a = jobs.cancel(j->first, id);
          reply(res, a.status, a.body);
        });
@@ -397,8 +477,8 @@ struct FittingService::Impl {
     on(get, R"(/api/v1/jobs/([^/]+)/report)", "/api/v1/jobs/{id}/report",
        [this](const Account& who, const httplib::Request& req, httplib::Response& res) {
          const std::string id = req.matches[1];
-         const auto j = job(who, id);
-         if (!j) return refuse(res, 404, "no fit of '" + id + "'");
+         const auto j = job(who, req, id, res);
+         if (!j) return;
          serve_file(res, jobs.output_folder(j->first, id) / "report" / "index.html", "the report of '" + id + "'");
        });
     on(get, "/api/v1/report", "/api/v1/report", [this](const Account& who, const httplib::Request&, httplib::Response& res) {
@@ -412,12 +492,16 @@ struct FittingService::Impl {
     http.set_post_routing_handler([this](const httplib::Request&, httplib::Response& res) {
       metrics.record(t_route, res.status, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
     });
-    http.set_error_handler([this](const httplib::Request&, httplib::Response& res) {
+    http.set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
       // httplib's own refusals (a route that does not exist, a body over the limit, a request it
       // cannot read) get a JSON body that says why too.
       if (!res.body.empty()) return;
+      // httplib reads a form body (application/x-www-form-urlencoded) only up to 8 KiB.
+      const bool form = req.get_header_value("Content-Type").find("application/x-www-form-urlencoded") == 0;
       const std::string why = res.status == 400   ? "the request cannot be read (malformed, or a header line over 8 KiB)"
                               : res.status == 404 ? "no such route (the API is under /api/v1; docs/openapi.yaml)"
+                              : res.status == 413 && form
+                                  ? "a form body is read up to 8 KiB; send fit options as application/json"
                               : res.status == 413 ? "the body is larger than " +
                                                         std::to_string(options.upload.max_archive_bytes) + " bytes"
                                                   : "HTTP " + std::to_string(res.status) + " for this request";
@@ -442,11 +526,12 @@ int FittingService::bind() {
                                                     ? m_impl->options.port
                                                     : -1);
   if (port <= 0) throw std::runtime_error(m_impl->options.host + ":" + std::to_string(m_impl->options.port) + ": cannot listen");
+  m_impl->http.size_backlog();
   return m_impl->port = port;
 }
 
 void FittingService::run() { m_impl->http.listen_after_bind(); }
 
-void FittingService::stop() { m_impl->http.stop(); }
+void FittingService::stop() { m_impl->http.shut_down(); }
 
 }  // namespace yarnfit::service

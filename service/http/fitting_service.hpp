@@ -10,6 +10,7 @@
 //                                            201 {"id", "family", "files"} or 4xx {"error", "problems"}
 //   GET    /api/v1/fabrics                   {"fabrics": [{"id", "family", "owner"}]}
 //   GET    /api/v1/fabrics/{id}              {"id", "family", "owner", "files"}
+//   DELETE /api/v1/fabrics/{id}              the fabric, its fit and its results (409 while a fit runs)
 //   POST   /api/v1/fabrics/{id}/fits         fit options (service/jobs/fit_request_json.hpp): 202 job
 //   GET    /api/v1/jobs                      {"jobs": [job…]}
 //   GET    /api/v1/jobs/{id}                 job (service/jobs/fit_jobs.hpp)
@@ -18,6 +19,11 @@
 //   GET    /api/v1/jobs/{id}/files/{name}    a result file
 //   GET    /api/v1/jobs/{id}/report          the fabric's HTML report
 //   GET    /api/v1/report                    the report over the caller's fabrics, by family
+//
+// An admin sees every user's fabrics: where two users have a fabric of one id, `?owner=NAME` on
+// any {id} route says whose (without it the admin's own, else the only one, else 409).
+// Every response carries X-Content-Type-Options: nosniff; the page and the reports a
+// Content-Security-Policy. Connections are gated (service/http/gated_server.hpp).
 //
 // DATA_DIR/accounts.db holds the users, DATA_DIR/fabrics/<user>/<id>/ the accepted records
 // (unpacked whole, validated, then renamed into place before 201 is sent), DATA_DIR/runs/ the
@@ -28,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "service/http/connection_limits.hpp"
 #include "service/jobs/fit_jobs.hpp"
 #include "service/upload/archive_upload.hpp"
 #include "service/upload/isolated_unpack.hpp"
@@ -40,7 +47,8 @@ struct ServiceOptions {
   UploadLimits upload;
   UnpackIsolation isolation;  // an upload is unpacked in a child process under these limits
   FitJobsOptions jobs;
-  int read_timeout_s = 10;   // a client silent this long is cut off
+  ConnectionLimits connections;  // deadlines and bounds of connections before a worker takes them
+  int read_timeout_s = 10;   // a client silent this long in the middle of a request is cut off
   int write_timeout_s = 10;
   // An upload's whole body must arrive within this (408 otherwise): a client that trickles its
   // body a byte at a time never trips the read timeout above, which counts one silence.

@@ -383,6 +383,35 @@ JobAnswer FitJobs::cancel(const std::string& owner, const std::string& fabric_id
   return {202, *m_impl->find(key)};  // under MPI a rank's fit ends cancelled when the rank reports
 }
 
+JobAnswer FitJobs::delete_fabric(const std::string& owner, const std::string& fabric_id, const fs::path& record) {
+  const std::string key = job_key(owner, fabric_id);
+  const std::lock_guard one_at_a_time(m_impl->start_mutex);  // no fit of it starts meanwhile
+  const auto busy = [&](const std::string& state) {
+    return JobAnswer{409, {{"error", "a fit of '" + fabric_id + "' is " + state + "; cancel it first"}, {"problems", json::array()}}};
+  };
+  if (const auto now = m_impl->find(key); now && ((*now)["state"] == "queued" || (*now)["state"] == "running"))
+    return busy((*now)["state"].get<std::string>());
+  {
+    batch::Ledger ledger(batch::ledger_file(m_impl->runs));
+    if (ledger.job(key) && !ledger.forget_job(key, "deleted by its owner", batch::unix_now())) return busy("running");
+  }
+  std::error_code ec;
+  fs::remove(m_impl->request_file(key), ec);
+  fs::remove_all(batch::fabric_output_folder(m_impl->runs, key), ec);
+  {
+    const std::lock_guard lock(m_impl->mutex);
+    m_impl->stages_of.erase(key);
+    m_impl->furthest.erase(key);
+  }
+  // Out of the user's folder in one rename, then removed: a reader sees the record whole or not at all.
+  const fs::path gone = m_impl->data / "uploads" / (".deleted-" + std::to_string(::getpid()) + "-" +
+                                                    std::to_string(std::hash<std::string>{}(key + std::to_string(batch::unix_now()))));
+  if (std::rename(record.c_str(), gone.c_str()) != 0)
+    return {500, {{"error", "the record of '" + fabric_id + "' could not be removed"}, {"problems", json::array()}}};
+  fs::remove_all(gone, ec);
+  return {200, {{"id", fabric_id}, {"owner", owner}, {"deleted", true}}};
+}
+
 std::string FitJobs::engine_problem() const {
   const std::lock_guard lock(m_impl->mutex);
   return m_impl->engine_error;
@@ -425,6 +454,7 @@ fs::path FitJobs::family_report(const std::string& owner) const {
     }
   run.fabrics = std::move(mine);
   run.label = owner.empty() ? "all users" : owner;
+  run.source = run.label;  // not the server's folder: where it keeps runs is none of a user's business
   std::vector<reports::RunOutputs> runs;
   runs.push_back(std::move(run));
   const fs::path folder = owner.empty() ? m_impl->data / "reports" / "everyone" : m_impl->data / "reports" / "users" / owner;

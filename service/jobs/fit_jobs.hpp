@@ -66,6 +66,11 @@ class FitJobs {
   // 200 with the job marked cancelled; 409 when it has ended; 404 when there is none.
   JobAnswer cancel(const std::string& owner, const std::string& fabric_id);
 
+  // Deletes `owner`'s fabric `fabric_id`: its fit (ledger rows, kept request, result files) and
+  // then its record folder `record`. 200 when gone; 409 while a fit of it is queued or
+  // running (cancel it first). A start of a fit of it waits for the deletion, then finds no record.
+  JobAnswer delete_fabric(const std::string& owner, const std::string& fabric_id, const std::filesystem::path& record);
+
   // The job of `owner`'s fabric as the API shows it: id, owner, state (queued, running, done,
   // failed, cancelled), stage, step, progress (0–1), seconds, seconds_left (null when not
   // known), attempts, error, files (the result files there are), report (true when written).

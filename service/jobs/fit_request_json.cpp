@@ -116,6 +116,22 @@ ServiceFitRequest fit_request_from_json(const json& body, db::Problems& problems
     if (f == fields().end()) say(name, "unknown field");
     else if (!f->second.read(value, out)) say(name, "wrong type: " + value.dump());
   }
+  const auto bound = [&](const char* field, std::optional<int> value) {
+    if (!value) return;
+    int most = 0;
+    for (const auto& b : k_request_bounds)
+      if (std::string(b.field) == field) most = b.most;
+    if (*value < 1 || *value > most)
+      say(field, std::to_string(*value) + " is outside what the service runs: 1 to " + std::to_string(most));
+  };
+  const pipeline::FitRequest& r = out.request;
+  bound("particles", r.particles);
+  bound("iterations", r.iterations);
+  bound("samples", r.samples);
+  bound("local_samples", r.local_samples);
+  bound("local_evaluations", r.local_evaluations);
+  bound("starts", r.starts);
+  if (body.contains("max_iterations")) bound("max_iterations", r.max_iterations);
   // The yarn stage alone fits a targets file, which a service request does not carry.
   if (out.request.stages != "shell" && out.request.stages != "all")
     say("stages", "'" + out.request.stages + "': a fit runs \"shell\" or \"all\"");

@@ -10,7 +10,10 @@
 // max_iterations, full_range, no_swarm, linear_stretch, no_rest_shape, no_profile, report
 // (default true).
 // An unknown field, a value of the wrong type or a name the fit cannot use is a problem
-// naming the field; the stages' own ranges are checked as `fit`'s are.
+// naming the field; the stages' own ranges are checked as `fit`'s are. A fit asked by a
+// stranger must also end in a time the server can give it: the sizes of the search are
+// bounded (k_request_bounds, docs/service.md), past them a problem names the field. The
+// threads of a fit are the server's (`serve --threads-per-job`), not the request's.
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +21,18 @@
 #include "pipeline/fit_request.hpp"
 
 namespace yarnfit::service {
+
+// The largest size of each search field a service request may ask for: two to ten times what
+// the thorough budget uses (calibration/fit/budget.cpp; the shell stage's default 1000
+// iterations), and at least 1 each.
+struct RequestBound {
+  const char* field;
+  int most;
+};
+inline constexpr RequestBound k_request_bounds[] = {
+    {"particles", 256},         {"iterations", 40}, {"samples", 50},           {"local_samples", 50},
+    {"local_evaluations", 1500}, {"starts", 16},    {"max_iterations", 10000},
+};
 
 struct ServiceFitRequest {
   pipeline::FitRequest request;

@@ -285,6 +285,11 @@ std::optional<UploadRefusal> write_entries(std::string_view bytes, const UploadL
           return UploadRefusal{k_too_large, name + ": larger than " + std::to_string(limits.max_file_bytes) + " bytes unpacked"};
         if (out.unpacked_bytes + file_bytes > limits.max_unpacked_bytes)
           return UploadRefusal{k_too_large, "more than " + std::to_string(limits.max_unpacked_bytes) + " bytes unpacked"};
+        // More data than the header declared (a zip whose header understates the size): the disk
+        // writer would refuse it as its own error; it is the archive's.
+        if (archive_entry_size_is_set(e) && file_bytes > static_cast<std::uintmax_t>(archive_entry_size(e)))
+          return UploadRefusal{k_refused_entry, name + ": damaged data: more bytes than the header's " +
+                                                    std::to_string(archive_entry_size(e))};
         if (archive_write_data_block(disk.get(), block, size, offset) != ARCHIVE_OK)
           return UploadRefusal{k_disk, name + ": " + error_of(disk.get())};
       }

@@ -146,6 +146,21 @@ std::vector<BrokenCase> broken_cases() {
        expect_line("fabric.yaml", 5, "yarns: expected a non-empty list")},
       {"BadId", [](P d) { replace_in_file(d / "fabric.yaml", "id: T1", "id: T 1/2"); },
        expect_line("fabric.yaml", 1, "id: 'T 1/2' may use only")},
+      // A record names files inside its own folder only (issue 47, SPEC §2).
+      {"AbsoluteFile", [](P d) { replace_in_file(d / "fabric.yaml", "{file: stretch_weft.csv}", "{file: /etc/passwd}"); },
+       expect_line("fabric.yaml", 16, "stretch_tests.weft.file: an absolute path")},
+      {"FileLeavingTheFolder", [](P d) { replace_in_file(d / "fabric.yaml", "{file: bend_weft.csv}", "{file: ../T1/bend_weft.csv}"); },
+       expect_line("fabric.yaml", 22, "bending_tests.weft.file: '../T1/bend_weft.csv' leaves the record's folder")},
+      {"FileLinkedOut", [](P d) {
+         write_file(d.parent_path() / "outside.csv", "stretch,force_N\n0,0\n0.1,1\n");
+         fs::create_symlink(d.parent_path() / "outside.csv", d / "linked.csv");
+         replace_in_file(d / "fabric.yaml", "{file: stretch_weft.csv}", "{file: linked.csv}");
+       },
+       expect_line("fabric.yaml", 16, "stretch_tests.weft.file: 'linked.csv' is a link that leaves the record's folder")},
+      {"PatternFileAbsolute", [](P d) { add_pattern_line(d, "{file: /etc/hostname}"); },
+       expect_line("fabric.yaml", 14, "pattern.file: an absolute path")},
+      {"FamilyNotUtf8", [](P d) { replace_in_file(d / "fabric.yaml", "family: test-family", "family: test-\xff\xfe"); },
+       expect_line("fabric.yaml", 2, "family: not valid UTF-8 text")},
   };
 }
 
@@ -175,6 +190,28 @@ TEST_P(BrokenRecord, ValidateNamesFileLineAndField) {
 
 INSTANTIATE_TEST_SUITE_P(Rules, BrokenRecord, ::testing::ValuesIn(broken_cases()),
                          [](const auto& param_info) { return param_info.param.name; });
+
+// A file the record may not read is refused by its name: nothing of it reaches a message, the
+// local commands' (db validate, fit) as the service's (issue 47, defect 1).
+TEST(ValidateRecord, NothingOfAFileOutsideTheRecordIsShown) {
+  ScratchDir dir("outside");
+  write_file(dir / "secret.csv", "SECRET-LINE-1,stretch\n0,0\n");
+  for (const std::string& name : {(dir / "secret.csv").string(), std::string("../secret.csv"), std::string("/etc/passwd"),
+                                  std::string("linked/secret.csv")}) {
+    const fs::path fabric = dir / "T1";
+    fs::remove_all(fabric);
+    write_base_fabric(fabric);
+    fs::create_directory_symlink(dir.path(), fabric / "linked");  // a linked folder on the way out
+    replace_in_file(fabric / "fabric.yaml", "{file: stretch_weft.csv}", "{file: '" + name + "'}");
+    for (const std::string& command : {"db validate " + quoted(fabric), "fit " + quoted(fabric) + " --out " + quoted(dir / "out")}) {
+      const auto r = run_cli(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.err;
+      EXPECT_TRUE(contains(r.err, "stretch_tests.weft.file: ")) << r.err;
+      EXPECT_FALSE(contains(r.err, "SECRET-LINE") || contains(r.err, "root:")) << r.err;
+      EXPECT_FALSE(fs::exists(dir / "out" / "shell_fit.json"));
+    }
+  }
+}
 
 TEST(ValidateRecord, BaseRecordIsValid) {
   ScratchDir dir("base");

@@ -94,6 +94,7 @@ def main():
         options.binary_location = CHROMIUM
         for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1100,900"):
             options.add_argument(arg)
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})  # to see what the CSP refused
         driver = webdriver.Chrome(service=Service(DRIVER), options=options)
         wait = WebDriverWait(driver, 120)
         driver.get(base + "/")
@@ -137,6 +138,9 @@ def main():
         assert len(widths) >= 3, widths  # the bar moved while the fit ran, not only at the end
         assert widths[-1] == "100%", widths
         driver.save_screenshot(os.path.join(shots, "service_page.png"))
+        # The page ran under its Content-Security-Policy (its own script only) and nothing was refused.
+        refused = [e["message"] for e in driver.get_log("browser") if "Content Security Policy" in e["message"]]
+        assert not refused, refused
 
         # The report opens in a window of its own.
         before = set(driver.window_handles)

@@ -18,6 +18,7 @@
 
 #include "service/accounts/accounts.hpp"
 #include "service/http/fitting_service.hpp"
+#include "service/jobs/fit_request_json.hpp"
 
 // After the project's headers: <httplib.h> brings <resolv.h>, whose `_res` macro breaks Eigen.
 #include <httplib.h>
@@ -147,6 +148,17 @@ TEST(OpenApi, TheDescriptionHoldsEveryRouteTheServerRegistersAndNoOther) {
     }
   EXPECT_EQ(served, described);
   EXPECT_EQ(served.size(), server.routes().size());  // none registered twice
+}
+
+// The bounds of a fit request the description states are the ones the service holds.
+TEST(OpenApi, TheFitRequestBoundsAreTheServices) {
+  const YAML::Node doc = YAML::LoadFile((fs::path(YARNFIT_SOURCE_DIR) / "docs" / "openapi.yaml").string());
+  const YAML::Node fields = doc["components"]["schemas"]["FitRequest"]["properties"];
+  for (const auto& bound : k_request_bounds) {
+    ASSERT_TRUE(fields[bound.field]) << bound.field;
+    EXPECT_EQ(fields[bound.field]["minimum"].as<int>(), 1) << bound.field;
+    EXPECT_EQ(fields[bound.field]["maximum"].as<int>(), bound.most) << bound.field;
+  }
 }
 
 }  // namespace
