@@ -27,6 +27,7 @@ void add_shell_sim_command(CLI::App& shell, int& exit_code);
 void add_synth_commands(CLI::App& app, int& exit_code);
 // `synth yarn`, registered on the `synth` subcommand (cli/commands_synth_yarn.cpp).
 void add_synth_yarn_command(CLI::App& synth, int& exit_code);
+void add_synth_fabric_command(CLI::App& synth, int& exit_code);
 // `yarn sim` and `yarn curve`: periodic yarn tile simulations (SPEC §5).
 void add_yarn_commands(CLI::App& app, int& exit_code);
 // `yarn fit` (registered on `yarn`) and the whole pipeline `fit` (cli/commands_fit.cpp).

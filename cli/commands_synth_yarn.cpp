@@ -1,5 +1,7 @@
 // `yarnfit synth yarn`: uniform targets and a fabric record simulated from a periodic tile and
-// known yarn parameters (issue 5; calibration/synth/synthetic_yarn_fabric.hpp).
+// known yarn parameters (issue 5; calibration/synth/synthetic_yarn_fabric.hpp). `yarnfit synth
+// fabric`: a whole record whose clamped-stretch and pear-loop tests come from known yarn
+// parameters through their homogenised shell law (issue 48; pipeline/synthetic_fabric.hpp).
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -7,6 +9,7 @@
 #include <vector>
 
 #include "calibration/synth/synthetic_yarn_fabric.hpp"
+#include "pipeline/synthetic_fabric.hpp"
 #include "cli/commands.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
@@ -60,7 +63,88 @@ int run_synth_yarn(const SynthYarnArgs& a) {
   });
 }
 
+struct SynthFabricArgs {
+  std::string pattern, params_file, out, id = "synthetic_fabric", family = "synthetic", model = "stiffening";
+  double max_stretch = 0.3, max_curvature = 150.0, ks2 = 0.0, density_gsm = 180.0;
+  std::vector<std::string> directions{"weft", "bias", "warp"}, bending{"weft", "warp"};
+  bool force = false, quiet = false;
+};
+
+std::vector<db::Direction> directions_of(const std::vector<std::string>& names, const char* option,
+                                         std::vector<std::string>& problems) {
+  std::vector<db::Direction> out;
+  for (const auto& name : names) {
+    if (name == "none") continue;
+    const auto dir = db::parse_direction(name);
+    if (!dir) problems.push_back(std::string(option) + ": " + name + ": not a direction (weft, bias, warp)");
+    else out.push_back(*dir);
+  }
+  return out;
+}
+
+int run_synth_fabric(const SynthFabricArgs& a) {
+  std::vector<std::string> problems;
+  pipeline::SyntheticFabricOptions o;
+  o.id = a.id;
+  o.family = a.family;
+  o.max_stretch = a.max_stretch;
+  o.max_curvature = a.max_curvature;
+  o.areal_density = a.density_gsm * 1e-3;
+  o.stretch_directions = directions_of(a.directions, "--directions", problems);
+  o.bending_directions = directions_of(a.bending, "--bending", problems);
+  if (const auto model = shell::parse_inplane_model(a.model)) o.model = *model;
+  else problems.push_back("--shell-model: " + a.model + ": not a shell model (stiffening or thesis)");
+  db::Problems found;
+  const auto tile = db::read_pyp(a.pattern, found);
+  std::optional<yarn::ParameterScales> scales;
+  if (tile && a.ks2 > 0.0) scales = yarn::scales_of(*tile, a.ks2);
+  const auto params = yarn::read_yarn_params(a.params_file, scales, found);
+  for (const auto& p : found.items()) problems.push_back(p.to_string());
+  if (!problems.empty() || !tile || !params) {
+    for (const auto& p : problems) std::cerr << p << "\n";
+    return k_exit_invalid_input;
+  }
+  return exit_code_of_writing(a.out, [&] {
+    const auto r = pipeline::write_synthetic_fabric(*tile, *params, o, a.out, a.force);
+    if (!a.quiet)
+      std::cout << "wrote fabric " << a.id << " in " << a.out << " (" << db::format_g(r.seconds, 3)
+                << " s); its law reproduces the yarn model's samples to " << db::format_g(r.law.stress_misfit_pct, 2)
+                << " % (stress), " << db::format_g(r.law.compression_misfit_pct, 2) << " % (compression), "
+                << db::format_g(r.law.bending_misfit_pct, 2) << " % (bending)\n";
+  });
+}
+
 }  // namespace
+
+void add_synth_fabric_command(CLI::App& synth, int& exit_code) {
+  auto args = std::make_shared<SynthFabricArgs>();
+  auto* f = synth.add_subcommand(
+      "fabric", "Write a whole fabric record whose clamped-stretch and pear-loop tests come from known yarn parameters: "
+                "the tile's uniform responses homogenised to a shell law, the tests simulated with it (the yarn "
+                "parameters and the law under ground_truth)");
+  f->add_option("--pattern", args->pattern, "Periodic yarn tile (.pyp), x axis along the weft")->required();
+  f->add_option("--yarn-params", args->params_file, "Yarn parameters (YAML/JSON, keys of yarn_fit.json's params)")
+      ->required();
+  f->add_option("-o,--out", args->out, "The record's folder")->required();
+  f->add_option("--max-stretch", args->max_stretch, "Largest stretch of the samples and the tests")
+      ->check(CLI::Range(1e-3, 2.0))
+      ->capture_default_str();
+  f->add_option("--directions", args->directions, "Stretch tests")->delimiter(',')->capture_default_str();
+  f->add_option("--bending", args->bending, "Pear-loop tests (none: no bending tests)")->delimiter(',')->capture_default_str();
+  f->add_option("--max-curvature", args->max_curvature, "Largest curvature of the bending samples [1/m]")
+      ->check(CLI::Range(1.0, 1e4))
+      ->capture_default_str();
+  f->add_option("--areal-density-gsm", args->density_gsm, "Areal density [g/m²] (the pear loop hangs under it)")
+      ->check(CLI::Range(1.0, 5000.0))
+      ->capture_default_str();
+  f->add_option("--shell-model", args->model, "The homogenised law: stiffening or thesis")->capture_default_str();
+  f->add_option("--ks2", args->ks2, "Fills ks2, kc2 and R2 the parameter file leaves out (SPEC §3)");
+  f->add_option("--id", args->id, "Fabric id")->capture_default_str();
+  f->add_option("--family", args->family, "Fabric family")->capture_default_str();
+  f->add_flag("--force", args->force, "Replace an existing record in the folder");
+  f->add_flag("-q,--quiet", args->quiet, "No summary line");
+  f->callback([args, &exit_code] { exit_code = run_synth_fabric(*args); });
+}
 
 void add_synth_yarn_command(CLI::App& synth, int& exit_code) {
   auto args = std::make_shared<SynthYarnArgs>();

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
+#include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/woven_tile.hpp"
@@ -22,6 +23,8 @@ struct TileMakeArgs {
   double yarn_spacing_mm = 0.0;
   double yarn_radius_mm = 0.0;
   double ks2 = 400.0;
+  std::vector<double> gauge;  // courses, wales per 10 cm
+  double aspect = 0.0;        // course / wale spacing (0: Crane's)
   int vertices_per_stitch = 16;
   bool json = false;
   bool force = false;
@@ -84,6 +87,20 @@ int run_tile_make(const TileMakeArgs& a) {
   o.geometry.yarn_radius = 1e-3 * a.yarn_radius_mm;
   o.geometry.vertices_per_stitch = a.vertices_per_stitch;
   o.default_ks2 = a.ks2;
+  if (!a.gauge.empty()) {
+    if (a.gauge.size() != 2 || !(a.gauge[0] > 0.0 && a.gauge[1] > 0.0 && std::isfinite(a.gauge[0] + a.gauge[1])))
+      problems.push_back("--gauge: courses and wales per 10 cm, two positive numbers (e.g. --gauge 52,38)");
+    else {
+      const db::KnittingGauge gauge{a.gauge[0], a.gauge[1]};
+      o.geometry.wale_spacing = gauge.wale_spacing();
+      o.geometry.course_spacing = gauge.course_spacing();
+    }
+    if (a.aspect != 0.0) problems.push_back("--aspect: the gauge sets the aspect; give one or the other");
+  }
+  if (a.aspect != 0.0) {
+    if (!(std::isfinite(a.aspect) && a.aspect > 0.0)) problems.push_back("--aspect: must be a positive ratio");
+    else o.geometry.course_ratio = a.aspect;
+  }
   if (!a.params_file.empty() && problems.empty()) {
     db::Problems found;
     const auto params = yarn::read_yarn_params(a.params_file, yarn::ParameterScales{a.ks2, o.geometry.yarn_radius}, found);
@@ -163,6 +180,13 @@ void add_tile_commands(CLI::App& app, int& exit_code) {
   make->add_option("--yarn-spacing-mm", args->yarn_spacing_mm,
                    "Centre distance of neighbouring parallel yarns [mm] (woven tiles)");
   make->add_option("--yarn-radius-mm", args->yarn_radius_mm, "Yarn radius [mm]")->required();
+  make->add_option("--gauge", args->gauge,
+                   "Knitting gauge, courses and wales per 10 cm (e.g. 52,38): the loops are built at this period and "
+                   "hold it; the rest lengths and curvatures absorb the rest stress (knits)")
+      ->delimiter(',')
+      ->expected(2);
+  make->add_option("--aspect", args->aspect,
+                   "Course spacing over wale spacing of the loops without a gauge (default: Crane's 0.716) (knits)");
   make->add_option("-o,--out", args->out, "The tile to write (.pyp)")->required();
   make->add_option("--params", args->params_file,
                    "Yarn parameters (YAML/JSON, keys of yarn_fit.json's params); default: SPEC section 3's "

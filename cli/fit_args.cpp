@@ -66,6 +66,10 @@ void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& a) {
                  "Where the zero-orthogonal-stress compression is solved: 0 at every stretch sample; N >= 2 at N "
                  "samples with linear interpolation between them (2: the thesis's both ends)")
       ->capture_default_str();
+  cmd.add_option("--compression-weight", a.compression_weight,
+                 "Weight of the compression errors beside the stress errors in the yarn objective (1: the thesis's "
+                 "eq. 6.11; 0: the stresses alone)")
+      ->capture_default_str();
   cmd.add_flag("--no-swarm", a.no_swarm, "The local step alone from the middle of the bounds (ablation, Fig. 6.11)");
   cmd.add_flag("--linear-stretch", a.linear_stretch, "ks1 = ks2, eps_s = 0: no biphasic stretch (ablation, Fig. 6.16)");
   cmd.add_flag("--no-rest-shape", a.no_rest_shape, "Keep the tile's own rest shape (ablation, Fig. 6.17)");
@@ -74,6 +78,9 @@ void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& a) {
                "relaxation, after the rest shape, whose own few period chord steps leave about a tenth of that "
                "stress). Off by default: on the acrylic records with generated tiles it removed the stockinette's "
                "7.7 N/m at zero stretch but raised g on every knit tried, at 1.3-1.8x the time");
+  cmd.add_flag("--no-shape", a.no_shape,
+               "Keep a generated tile at its prior loop shape instead of fitting its course/wale aspect (records "
+               "whose pattern is a knit without a knitting_gauge)");
   cmd.add_flag("--no-profile", a.no_profile,
                "Skip the identifiability profile (each fitted parameter moved 10 % both ways, 2 local-step "
                "evaluations per parameter)");

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   add_shell_commands(app, exit_code);
   add_synth_commands(app, exit_code);
   add_synth_yarn_command(*app.get_subcommand("synth"), exit_code);
+  add_synth_fabric_command(*app.get_subcommand("synth"), exit_code);
   add_yarn_commands(app, exit_code);
   add_fit_commands(app, *app.get_subcommand("yarn"), exit_code);
   add_batch_commands(app, exit_code);

@@ -17,6 +17,8 @@ std::string option_name(const std::string& field) {
       {"swarm_samples", "--samples"},
       {"local_samples", "--local-samples"},
       {"local_evaluations", "--local-evaluations"},
+      {"objective.compression_weight", "--compression-weight"},
+      {"compression_weight", "--compression-weight"},
       {"swarm_compression_nodes", "--compression-nodes"},
       {"local_compression_nodes", "--compression-nodes"},
       {"resume", "--resume"},

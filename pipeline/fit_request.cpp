@@ -40,6 +40,7 @@ calibration::YarnFitSettings yarn_settings(const FitRequest& r, db::Problems& pr
   s.linear_stretch = r.linear_stretch;
   s.rest_shape = !r.no_rest_shape;
   s.objective.rest_period = r.relax_period;
+  s.objective.compression_weight = r.compression_weight;
   if (r.no_profile) s.profile_step = 0.0;
   s.swarm_compression_nodes = r.compression_nodes;
   s.local_compression_nodes = r.compression_nodes;
@@ -56,6 +57,7 @@ PipelineOptions pipeline_options(const FitRequest& request, db::Problems& proble
   else problems.add("", 0, "stages", request.stages + ": not a set of stages (all, shell or yarn)");
   o.shell = shell_options(request, problems);
   o.yarn = yarn_settings(request, problems);
+  o.shape.enabled = !request.no_shape;
   for (const std::string& name : request.exports) {
     if (const auto format = exports::export_format_from_string(name)) o.exports.push_back(*format);
     else problems.add("", 0, "export", name + ": not an export format (u3m, arcsim or table)");

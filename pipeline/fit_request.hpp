@@ -49,7 +49,9 @@ struct FitRequest {
   std::string local_method = calibration::to_string(calibration::YarnFitSettings{}.local_method);
   std::uint64_t seed = calibration::YarnFitSettings{}.seed;
   int compression_nodes = calibration::YarnFitSettings{}.local_compression_nodes;
+  double compression_weight = calibration::ObjectiveOptions{}.compression_weight;
   bool no_swarm = false, linear_stretch = false, no_rest_shape = false, relax_period = false, no_profile = false;
+  bool no_shape = false;  // keep a generated tile's prior shape instead of fitting it
   std::filesystem::path targets;     // "yarn": the uniform targets to fit
   std::filesystem::path start;       // parameters the local step starts from; skips the swarm
   std::filesystem::path checkpoint;  // the yarn fit's checkpoint file

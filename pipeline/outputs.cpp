@@ -14,9 +14,9 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string>& output_files(Stages stages) {
   static const std::vector<std::string> shell{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv"};
-  static const std::vector<std::string> yarn{"yarn_fit.json", "yarn_curves.csv", "yarn_summary.txt"};
-  static const std::vector<std::string> all{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv",
-                                            "yarn_fit.json",  "yarn_curves.csv",     "summary.txt"};
+  static const std::vector<std::string> yarn{"yarn_fit.json", "yarn_curves.csv", "yarn_summary.txt", "tile.pyp"};
+  static const std::vector<std::string> all{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv", "yarn_fit.json",
+                                            "yarn_curves.csv", "summary.txt",         "tile.pyp"};
   switch (stages) {
     case Stages::shell: return shell;
     case Stages::yarn: return yarn;
@@ -117,6 +117,9 @@ PipelineOutputs write_outputs(const PipelineResult& result, const fs::path& fold
     write("summary.txt", out.summary);
     out.text += "\n" + out.summary;
   }
+  // The tile the yarn model was fitted on, beside it (a generated or shape-fitted one exists
+  // nowhere else the user looks).
+  if (result.fitted_tile) write("tile.pyp", db::format_pyp(*result.fitted_tile));
   out.text += results_line();
   return out;
 }

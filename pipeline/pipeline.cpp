@@ -1,5 +1,6 @@
 #include "pipeline/pipeline.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "fabrics_db/records/fabric_reader.hpp"
@@ -101,6 +102,24 @@ results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::file
   if (!result.yarn || !result.yarn_problem) throw std::logic_error("yarn_fit_file: the yarn stage did not run");
   results::YarnFitFile f = calibration::to_file(*result.yarn_problem, *result.yarn, result.yarn_settings);
   if (result.shell) f.targets = targets_file.string();
+  f.measured = result.measured;
+  if (result.shape) {
+    const calibration::ShapeFit& s = *result.shape;
+    results::ShapeRecord r;
+    r.aspect = s.aspect;
+    r.prior = s.prior;
+    r.lower = s.lower;
+    r.upper = s.upper;
+    r.range_lower = s.range_lower;
+    r.range_upper = s.range_upper;
+    r.prior_source = s.prior_source;
+    r.wale_spacing_mm = 1e3 * s.wale_spacing;
+    r.course_spacing_mm = 1e3 * s.course_spacing;
+    for (const auto& t : s.trials)
+      r.trials.push_back({t.aspect, std::isfinite(t.objective) ? t.objective : std::nan(""), t.r1, t.full_fit, t.seconds, t.message});
+    r.seconds = s.seconds;
+    f.shape = std::move(r);
+  }
   return f;
 }
 

@@ -20,8 +20,10 @@
 #include <nlohmann/json.hpp>
 
 #include "calibration/fit/yarn_calibration.hpp"
+#include "calibration/problem/shape_search.hpp"
 #include "calibration/problem/yarn_fit_problem.hpp"
 #include "exports/export_fit.hpp"
+#include "results/yarn_fit_file.hpp"
 #include "fabrics_db/problems.hpp"
 #include "fabrics_db/records/fabric.hpp"
 #include "shell_fit/fit/shell_fit.hpp"
@@ -40,6 +42,8 @@ struct PipelineOptions {
   Stages stages = Stages::all;
   shell::ShellFitOptions shell;
   calibration::YarnFitSettings yarn;
+  // The shape of a tile generated without a gauge, fitted with the yarn parameters.
+  calibration::ShapeSearchSettings shape;
   // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
   // whatever yarn.swarm says (calibration::settings_for).
   std::filesystem::path start;
@@ -75,6 +79,14 @@ struct PipelineResult {
   std::optional<shell::ShellFitResult> shell;
   std::optional<calibration::YarnFitProblem> yarn_problem;  // its targets are the shell stage's
   std::optional<calibration::YarnFitResult> yarn;
+  // The fitted yarn model against the record's measured curves (pipeline/measured_check.hpp),
+  // when the yarn fit ended ok.
+  std::optional<results::MeasuredCheckRecord> measured;
+  // The tile's shape, when it was fitted (calibration/problem/shape_search.hpp).
+  std::optional<calibration::ShapeFit> shape;
+  // The tile the yarn model was fitted on (the shape's, the generated one, the record's), as
+  // the output folder's tile.pyp holds it.
+  std::optional<db::PeriodicTile> fitted_tile;
   calibration::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
   Stages stages = Stages::all;
   double seconds_shell = 0.0;  // from the start (the record read) to the shell stage's end

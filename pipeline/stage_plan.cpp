@@ -5,6 +5,7 @@
 
 #include "calibration/problem/generated_pattern.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
+#include "pipeline/measured_check.hpp"
 
 namespace yarnfit::pipeline {
 
@@ -98,7 +99,15 @@ class YarnStage final : public PlanStage {
     const auto yarn_start = Clock::now();
     PipelineResult& result = state.result;
     try {
-      result.yarn = calibration::fit_yarn(*result.yarn_problem, state.options.yarn);
+      if (calibration::shape_is_fitted(state.fabric, state.options.yarn, state.options.shape)) {
+        result.shape.emplace();
+        result.yarn = calibration::fit_yarn_with_shape(*result.yarn_problem, *state.fabric.pattern->knit,
+                                                       state.options.yarn, state.options.shape, *result.shape);
+        result.fitted_tile = result.shape->tile;
+      } else {
+        result.yarn = calibration::fit_yarn(*result.yarn_problem, state.options.yarn);
+        if (state.fabric.pattern && state.fabric.pattern->has_tile()) result.fitted_tile = state.fabric.pattern->tile;
+      }
       result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
       result.message = result.yarn->ok ? std::string() : "yarn fit failed: " + result.yarn->message;
     } catch (const std::invalid_argument& e) {
@@ -110,6 +119,45 @@ class YarnStage final : public PlanStage {
     }
     result.seconds_yarn = seconds_since(yarn_start);
     return result.status == PipelineStatus::ok;
+  }
+};
+
+// measured: the fitted yarn model homogenised back to a shell law and run through the record's
+// own tests (pipeline/measured_check.hpp). What it cannot do is said in its record, never a
+// failure of the fit.
+class MeasuredStage final : public PlanStage {
+ public:
+  void check(PlanState&, db::Problems&) const override {}
+  bool run(PlanState& state) const override {
+    PipelineResult& result = state.result;
+    if (!result.yarn || !result.yarn->ok) return true;
+    shell::InplaneModel model = state.options.shell.model;
+    std::optional<shell::InplaneParams> start;
+    if (result.shell) {
+      model = result.shell->inplane.model;
+      start = result.shell->params.inplane;
+    } else if (const auto beside = state.options.targets.parent_path() / "shell_fit.json"; std::filesystem::exists(beside)) {
+      // The yarn stage alone: the shell stage's law beside its targets, when it is there.
+      try {
+        const results::ShellFitFile shell = results::read_shell_fit_file(beside);
+        if (const auto m = shell::parse_inplane_model(shell.model)) model = *m;
+        std::array<double, shell::k_inplane_param_count> values{};
+        bool complete = true;
+        for (int k = 0; k < shell::k_inplane_param_count; ++k) {
+          const auto it = shell.params.find(shell::k_inplane_param_names[k]);
+          if (it != shell.params.end() && it->second) values[static_cast<std::size_t>(k)] = *it->second;
+          else if (k < shell::k_first_lockup_param) complete = false;
+        }
+        if (complete) start = shell::inplane_from_array(values);
+      } catch (const std::exception&) {
+        // An unreadable shell_fit.json: the law is fitted from the samples alone.
+      }
+    }
+    shell::RecordErrorOptions o;
+    o.mesh = state.options.shell.mesh;
+    o.full_range = state.options.shell.full_range;
+    result.measured = check_against_measurements(state.fabric, *result.yarn, model, start, o);
+    return true;
   }
 };
 
@@ -138,6 +186,7 @@ StagePlan::StagePlan(Stages stages) {
   if (runs_yarn(stages)) {
     m_stages.push_back(std::make_unique<TargetsStage>());
     m_stages.push_back(std::make_unique<YarnStage>());
+    m_stages.push_back(std::make_unique<MeasuredStage>());
   }
 }
 

@@ -12,8 +12,8 @@ using nlohmann::json;
 using namespace detail;
 
 namespace {
-
 constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
 
 json curves_json(const ShellDirectionCurves& d) {
   return {{"direction", d.direction},
@@ -40,13 +40,38 @@ ShellDirectionCurves read_curves(const json& d, const Where& at) {
   return c;
 }
 
+json bending_curve_json(const BendingCurve& c) {
+  return {{"direction", c.direction},
+          {"clamp_distance_m", numbers_json(c.clamp_distance_m)},
+          {"measured_aspect_ratio", numbers_json(c.measured_aspect_ratio)},
+          {"simulated_aspect_ratio", numbers_json(c.simulated_aspect_ratio)}};
+}
+
+BendingCurve read_bending_curve(const json& c, const Where& w) {
+  expect_object(c, w);
+  return {string(c, "direction", w, "?"), numbers(c, "clamp_distance_m", w), numbers(c, "measured_aspect_ratio", w),
+          numbers(c, "simulated_aspect_ratio", w)};
+}
+
+json direction_errors_json(const std::map<std::string, ShellDirectionErrors>& errors) {
+  json j = json::object();
+  for (const auto& [dir, e] : errors)
+    j[dir] = {{"stretch_force_pct", pct_json(e.stretch_force_pct)},
+              {"compression_pct", pct_json(e.compression_pct)},
+              {"bending_pct", pct_json(e.bending_pct)}};
+  return j;
+}
+
+ShellDirectionErrors read_shell_errors(const json& e, const Where& w) {
+  expect_object(e, w);
+  return {number(e, "stretch_force_pct", w, k_nan), number(e, "compression_pct", w, k_nan), number(e, "bending_pct", w, k_nan)};
+}
+
+namespace {
+
 json bending_json(const BendingDetails& b) {
   json curves = json::array();
-  for (const auto& c : b.curves)
-    curves.push_back({{"direction", c.direction},
-                      {"clamp_distance_m", numbers_json(c.clamp_distance_m)},
-                      {"measured_aspect_ratio", numbers_json(c.measured_aspect_ratio)},
-                      {"simulated_aspect_ratio", numbers_json(c.simulated_aspect_ratio)}});
+  for (const auto& c : b.curves) curves.push_back(bending_curve_json(c));
   return {{"converged", b.converged},
           {"message", b.message},
           {"iterations", b.iterations},
@@ -71,11 +96,7 @@ BendingDetails read_bending(const json& b, const Where& at) {
   if (const json* curves = member(b, "curves")) {
     if (!curves->is_array()) (at / "curves").bad("an array");
     for (std::size_t i = 0; i < curves->size(); ++i) {
-      const json& c = (*curves)[i];
-      const Where w = (at / "curves")[i];
-      expect_object(c, w);
-      out.curves.push_back({string(c, "direction", w, "?"), numbers(c, "clamp_distance_m", w),
-                            numbers(c, "measured_aspect_ratio", w), numbers(c, "simulated_aspect_ratio", w)});
+      out.curves.push_back(read_bending_curve((*curves)[i], (at / "curves")[i]));
     }
   }
   out.not_identified = strings(b, "not_identified", at);
@@ -84,25 +105,13 @@ BendingDetails read_bending(const json& b, const Where& at) {
   return out;
 }
 
-json direction_errors_json(const std::map<std::string, ShellDirectionErrors>& errors) {
-  json j = json::object();
-  for (const auto& [dir, e] : errors)
-    j[dir] = {{"stretch_force_pct", pct_json(e.stretch_force_pct)},
-              {"compression_pct", pct_json(e.compression_pct)},
-              {"bending_pct", pct_json(e.bending_pct)}};
-  return j;
-}
-
 std::map<std::string, ShellDirectionErrors> read_direction_errors(const json& j, const Where& at) {
   std::map<std::string, ShellDirectionErrors> out;
   const json* v = member(j, "errors_by_direction");
   if (!v) at.bad("errors_by_direction (schema version 2 and later)");
   expect_object(*v, at / "errors_by_direction");
   for (const auto& [dir, e] : v->items()) {
-    const Where w = at / "errors_by_direction" / dir;
-    expect_object(e, w);
-    out[dir] = {number(e, "stretch_force_pct", w, k_nan), number(e, "compression_pct", w, k_nan),
-                number(e, "bending_pct", w, k_nan)};
+    out[dir] = read_shell_errors(e, at / "errors_by_direction" / dir);
   }
   return out;
 }

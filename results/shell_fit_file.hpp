@@ -141,6 +141,19 @@ struct ShellFitFile {
 [[nodiscard]] std::map<std::string, ShellDirectionErrors> shell_direction_errors(
     const std::vector<ShellDirectionCurves>& directions, const std::optional<BendingDetails>& bending);
 
+namespace detail {
+class Where;  // results/json_fields.hpp
+}
+
+// A stretch test's curves, a pear-loop test's curves and a direction's shell errors as
+// shell_fit.json writes and reads them (yarn_fit.json's check against the measurements too).
+[[nodiscard]] nlohmann::json curves_json(const ShellDirectionCurves& d);
+[[nodiscard]] ShellDirectionCurves read_curves(const nlohmann::json& d, const detail::Where& at);
+[[nodiscard]] nlohmann::json bending_curve_json(const BendingCurve& c);
+[[nodiscard]] BendingCurve read_bending_curve(const nlohmann::json& c, const detail::Where& at);
+[[nodiscard]] nlohmann::json direction_errors_json(const std::map<std::string, ShellDirectionErrors>& errors);
+[[nodiscard]] ShellDirectionErrors read_shell_errors(const nlohmann::json& e, const detail::Where& at);
+
 // The figures of `errors` under their names in the file (stretch_force_pct, compression_pct,
 // bending_pct), for tables whose columns take those names (the batch ledger, SPEC §5).
 [[nodiscard]] std::map<std::string, double> named_errors(const ShellErrors& errors);

@@ -381,6 +381,50 @@ json to_json(const YarnFitFile& f) {
   if (f.identifiability) j["identifiability"] = identifiability_json(*f.identifiability);
   if (f.swarm) j["swarm"] = swarm_json(*f.swarm);
   if (f.global) j["global"] = global_json(*f.global);
+  if (f.shape) {
+    const ShapeRecord& sh = *f.shape;
+    json trials = json::array();
+    for (const auto& t : sh.trials)
+      trials.push_back({{"aspect", t.aspect},
+                        {"objective", pct_json(t.objective)},
+                        {"r1_m", t.r1_m},
+                        {"full_fit", t.full_fit},
+                        {"seconds", t.seconds},
+                        {"message", t.message}});
+    j["shape"] = {{"aspect", sh.aspect},
+                  {"prior", sh.prior},
+                  {"prior_source", sh.prior_source},
+                  {"bounds", {{"lower", sh.lower}, {"upper", sh.upper}}},
+                  {"range", {pct_json(sh.range_lower), pct_json(sh.range_upper)}},
+                  {"wale_spacing_mm", sh.wale_spacing_mm},
+                  {"course_spacing_mm", sh.course_spacing_mm},
+                  {"wales_per_10cm", 100.0 / sh.wale_spacing_mm},
+                  {"courses_per_10cm", 100.0 / sh.course_spacing_mm},
+                  {"trials", trials},
+                  {"seconds", sh.seconds}};
+  }
+  if (f.measured) {
+    const MeasuredCheckRecord& m = *f.measured;
+    json vs = direction_errors_json(m.by_direction);
+    vs["all"] = {{"stretch_force_pct", pct_json(m.all.stretch_force_pct)},
+                 {"compression_pct", pct_json(m.all.compression_pct)},
+                 {"bending_pct", pct_json(m.all.bending_pct)}};
+    j["errors_vs_measured"] = vs;
+    json law_curves = json::array(), bending = json::array();
+    for (const auto& c : m.curves) law_curves.push_back(curves_json(c));
+    for (const auto& c : m.bending_curves) bending.push_back(bending_curve_json(c));
+    j["homogenised_law"] = {{"ok", m.ok},
+                            {"message", m.message},
+                            {"model", m.law_model},
+                            {"params", m.law_params},
+                            {"misfit_pct",
+                             {{"stress", pct_json(m.law_stress_misfit_pct)},
+                              {"compression", pct_json(m.law_compression_misfit_pct)},
+                              {"bending", pct_json(m.law_bending_misfit_pct)}}},
+                            {"curves", law_curves},
+                            {"bending_curves", bending},
+                            {"seconds", m.seconds}};
+  }
   if (f.local) {
     j["local"] = local_run_json(f.local->best);
     json runs = json::array();
@@ -428,6 +472,51 @@ YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
   f.settings = read_settings(object_or_empty(j, "settings", at), at / "settings");
   if (const json* s = member(j, "swarm")) f.swarm = read_swarm(*s, at / "swarm");
   if (const json* g = member(j, "global")) f.global = read_global(*g, at / "global");
+  if (const json* shape = member(j, "shape")) {
+    const Where w = at / "shape";
+    expect_object(*shape, w);
+    ShapeRecord sh;
+    sh.aspect = number(*shape, "aspect", w, k_nan);
+    sh.prior = number(*shape, "prior", w, k_nan);
+    sh.prior_source = string(*shape, "prior_source", w);
+    const json& bounds = object_or_empty(*shape, "bounds", w);
+    sh.lower = number(bounds, "lower", w / "bounds", k_nan);
+    sh.upper = number(bounds, "upper", w / "bounds", k_nan);
+    const std::vector<double> range = numbers(*shape, "range", w);
+    sh.range_lower = range.size() == 2 ? range[0] : k_nan;
+    sh.range_upper = range.size() == 2 ? range[1] : k_nan;
+    sh.wale_spacing_mm = number(*shape, "wale_spacing_mm", w, k_nan);
+    sh.course_spacing_mm = number(*shape, "course_spacing_mm", w, k_nan);
+    for_each_object(*shape, "trials", w, [&sh](const json& x, const Where& wx) {
+      sh.trials.push_back({number(x, "aspect", wx, k_nan), number(x, "objective", wx, k_nan), number(x, "r1_m", wx, k_nan),
+                           boolean(x, "full_fit", wx, false), number(x, "seconds", wx, k_nan), string(x, "message", wx)});
+    });
+    sh.seconds = number(*shape, "seconds", w, k_nan);
+    f.shape = std::move(sh);
+  }
+  if (const json* law = member(j, "homogenised_law")) {
+    const Where w = at / "homogenised_law";
+    expect_object(*law, w);
+    MeasuredCheckRecord m;
+    m.ok = boolean(*law, "ok", w, false);
+    m.message = string(*law, "message", w);
+    m.law_model = string(*law, "model", w);
+    m.law_params = number_map(*law, "params", w);
+    const json& misfit = object_or_empty(*law, "misfit_pct", w);
+    m.law_stress_misfit_pct = number(misfit, "stress", w / "misfit_pct", k_nan);
+    m.law_compression_misfit_pct = number(misfit, "compression", w / "misfit_pct", k_nan);
+    m.law_bending_misfit_pct = number(misfit, "bending", w / "misfit_pct", k_nan);
+    for_each_object(*law, "curves", w, [&m](const json& c, const Where& wc) { m.curves.push_back(read_curves(c, wc)); });
+    for_each_object(*law, "bending_curves", w,
+                    [&m](const json& c, const Where& wc) { m.bending_curves.push_back(read_bending_curve(c, wc)); });
+    m.seconds = number(*law, "seconds", w, k_nan);
+    for (const auto& [name, e] : object_or_empty(j, "errors_vs_measured", at).items()) {
+      const ShellDirectionErrors read = read_shell_errors(e, at / "errors_vs_measured" / name);
+      if (name == "all") m.all = {read.stretch_force_pct, read.compression_pct, read.bending_pct};
+      else m.by_direction[name] = read;
+    }
+    f.measured = std::move(m);
+  }
   if (const json* l = member(j, "local")) {
     LocalRecord local{read_local_run(*l, at / "local"), {}};
     for_each_object(*l, "runs", at / "local",

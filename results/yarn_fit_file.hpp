@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@
 namespace yarnfit::results {
 
 inline constexpr int k_yarn_fit_schema_version = 2;
+inline constexpr double k_nan_error = std::numeric_limits<double>::quiet_NaN();
 
 // The yarn metric over all directions [%] (mean absolute error over the largest comfort-range
 // target); NaN: no figure.
@@ -222,6 +224,48 @@ struct LocalRecord {
   std::vector<LocalRunRecord> runs;  // every run (one per start)
 };
 
+// The fitted yarn model against the record's measured curves (issue 48): its own uniform
+// responses homogenised back to a shell law (how far the law is from them: its misfit), and the
+// record's clamped-stretch and pear-loop scenes run with that law, in the shell fit's metric and
+// names. yarn_fit.json: `errors_vs_measured` {<direction>: {stretch_force_pct, compression_pct,
+// bending_pct}, all: {…}} and `homogenised_law` {ok, message, model, params, misfit_pct, curves,
+// bending_curves, seconds}.
+struct MeasuredCheckRecord {
+  bool ok = false;
+  std::string message;  // why there are no figures, or which scene failed
+  ShellErrors all{k_nan_error, k_nan_error, k_nan_error};
+  std::map<std::string, ShellDirectionErrors> by_direction;
+  std::string law_model;
+  std::map<std::string, double> law_params;
+  double law_stress_misfit_pct = k_nan_error;  // the yarn metric, law against the model's samples
+  double law_compression_misfit_pct = k_nan_error;
+  double law_bending_misfit_pct = k_nan_error;
+  std::vector<ShellDirectionCurves> curves;  // the record's stretch tests and the law there
+  std::vector<BendingCurve> bending_curves;  // its pear-loop tests and the law there
+  double seconds = 0.0;
+};
+
+// The tile's shape fitted with the yarn parameters (issue 48; calibration/problem/shape_search.hpp):
+// yarn_fit.json's `shape`.
+struct ShapeTrialRecord {
+  double aspect = 0.0;
+  double objective = 0.0;  // NaN: the trial failed
+  double r1_m = 0.0;       // the contact radius its tile was built with
+  bool full_fit = false;
+  double seconds = 0.0;
+  std::string message;
+};
+struct ShapeRecord {
+  double aspect = 0.0;  // course / wale spacing of the fitted tile's loops
+  double prior = 0.0;
+  double lower = 0.0, upper = 0.0;              // the search bounds
+  double range_lower = 0.0, range_upper = 0.0;  // where g stays within twice the best (NaN: open)
+  std::string prior_source;
+  double wale_spacing_mm = 0.0, course_spacing_mm = 0.0;
+  std::vector<ShapeTrialRecord> trials;
+  double seconds = 0.0;
+};
+
 struct YarnFitFile {
   int schema_version = k_yarn_fit_schema_version;  // as read; to_json writes the current one
   std::string fabric;
@@ -246,6 +290,8 @@ struct YarnFitFile {
   std::optional<SwarmRecord> swarm;  // with a global search
   std::optional<GlobalRecord> global;
   std::optional<LocalRecord> local;  // when a local step ran
+  std::optional<MeasuredCheckRecord> measured;  // errors_vs_measured, when the check ran
+  std::optional<ShapeRecord> shape;             // when the tile's shape was fitted
 };
 
 // yarn_fit.json of the current schema version.

@@ -25,6 +25,11 @@ using numerics::Clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // 0: c* at every sample; N ≥ 2: at N nodes, at most one per sample.
+// The thesis's method in full (`--global swarm --local cobyla`): its objective stays 6.11.
+bool thesis_method(const YarnFitSettings& s) {
+  return s.global_method == GlobalMethod::swarm && s.local_method == LocalMethod::cobyla;
+}
+
 void set_compression_nodes(ObjectiveOptions& o, int nodes, int samples) {
   o.free_compression_every_sample = nodes == 0;
   o.compression_nodes = nodes == 0 ? 2 : std::min(nodes, samples);
@@ -223,6 +228,8 @@ class FitRun {
     // The band read to first order belongs to the Gauss–Newton step (sensitivity.hpp); the other
     // local steps, the thesis's COBYLA among them, keep the objective they were made with.
     o.root_correction = m_s.objective.root_correction && m_s.local_method == LocalMethod::gauss_newton;
+    // The thesis's method fits stretch and compression only (6.11); bending is checked after.
+    if (thesis_method(m_s)) o.bending_weight = 0.0;
     const bool local = samples == m_s.local_samples;
     set_compression_nodes(o, local ? m_s.local_compression_nodes : m_s.swarm_compression_nodes, samples);
     return o;

@@ -115,7 +115,7 @@ class Sweep {
     const double w = m_e.scale.comfort_value / std::max(m_e.scale.comfort_value, s_tgt);
     const double ds = (s_sim - s_tgt) / m_e.scale.stress_norm;
     const double dc = (r.compression - c_tgt) / m_e.scale.compression_norm;
-    m_sum_sq += w * (ds * ds + dc * dc);
+    m_sum_sq += w * (ds * ds + m_e.scale.compression_weight * dc * dc);
     m_e.stretch.push_back(s);
     m_e.stress_sim.push_back(s_sim);
     m_e.stress_target.push_back(s_tgt);
@@ -331,6 +331,54 @@ std::string sweep_direction(yarn::YarnSystem& system, const Eigen::VectorXd& g_r
                             const SweepSettings& settings, DirectionError& e, SweepCounts& counts) {
   Sweep sweep(system, g_rest, targets, settings, e, counts);
   return sweep.run();
+}
+
+std::string sweep_bending(yarn::YarnSystem& system, const Eigen::VectorXd& g_rest, const db::DirectionTargets& targets,
+                          int samples, double weight, const yarn::EquilibriumOptions& solve,
+                          std::span<const yarn::YarnParam> wanted, DirectionError& e, SweepCounts& counts) {
+  const auto& points = targets.bending;
+  if (points.size() < 2 || samples < 1 || !(weight > 0.0)) return {};
+  double largest = 0.0;
+  for (const auto& p : points) largest = std::max(largest, std::abs(p.stress));
+  if (!(largest > 0.0)) return {};
+  const std::string name(db::to_string(targets.direction));
+  Eigen::VectorXd g = g_rest;
+  yarn::CoarseDeformation chi;
+  chi.angle = db::pull_angle(targets.direction);
+  // A knitted tile curls at rest: the response is σ_κ(κ) − σ_κ(0) (bending_check.hpp).
+  const yarn::BendingSample flat = yarn::simulate_bending(system, chi, g, 0.0, solve, wanted);
+  counts.newton_iterations += flat.centre.newton_iterations;
+  e.solves += flat.centre.solves;
+  if (!flat.ok) return name + ": bending at κ = 0 failed: " + flat.message;
+  e.bending_norm = largest;
+  e.bending_weight = weight;
+  const double kappa_max = points.back().curvature;
+  double sum_sq = 0.0;
+  for (int j = 1; j <= samples; ++j) {
+    chi.curvature = kappa_max * j / samples;
+    const yarn::BendingSample b = yarn::simulate_bending(system, chi, g, 0.0, solve, wanted);
+    counts.newton_iterations += b.centre.newton_iterations;
+    e.solves += b.centre.solves;
+    if (!b.ok) return name + ": bending at κ = " + db::format_g(chi.curvature) + " 1/m failed: " + b.message;
+    // The targets are 2 k_θ κ: linear, read at κ by interpolation all the same.
+    double target = points.back().stress;
+    for (std::size_t i = 1; i < points.size(); ++i)
+      if (chi.curvature <= points[i].curvature) {
+        const double t = (chi.curvature - points[i - 1].curvature) / (points[i].curvature - points[i - 1].curvature);
+        target = points[i - 1].stress + t * (points[i].stress - points[i - 1].stress);
+        break;
+      }
+    const double sim = b.stress_kappa - flat.stress_kappa;
+    e.bending_curvature.push_back(chi.curvature);
+    e.bending_sim.push_back(sim);
+    e.bending_target.push_back(target);
+    if (!wanted.empty()) e.d_bending_sim.push_back(b.d_stress_kappa - flat.d_stress_kappa);
+    const double r = (sim - target) / largest;
+    sum_sq += r * r;
+  }
+  system.set_deformation(yarn::CoarseDeformation{0.0, 0.0, 0.0, chi.angle});
+  e.value += weight * sum_sq / samples;
+  return {};
 }
 
 }  // namespace yarnfit::calibration

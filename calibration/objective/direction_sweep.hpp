@@ -45,6 +45,8 @@ struct DirectionScale {
   double comfort_value = 0.0;     // v_comfort: target S at comfort_stretch [N/m]
   double stress_norm = 0.0;       // largest target S in the comfort range [N/m]
   double compression_norm = 0.0;  // largest target |c| in the comfort range (≥ min norm)
+  double compression_weight = 1.0;  // the compression terms' weight beside the stress terms'
+
 };
 
 // Where a sweep left each sample: the equilibrium, its c and d²Ψ/dc² (0 when unknown).
@@ -74,7 +76,16 @@ struct DirectionError {
   int flat = 0;  // samples whose band was wider than ±flat_band
   SweepStates states;  // with SweepSettings::record_states
   int solves = 0;
+  // The bending term (ObjectiveOptions::bending_weight > 0, bending targets of this direction):
+  // Δσ_κ = σ_κ(κ_j) − σ_κ(0) at the bending samples against the targets' 2 k_θ κ_j, normalised
+  // by the largest |target|; its share of `value` is bending_weight · mean_j error².
+  std::vector<double> bending_curvature, bending_sim, bending_target;
+  std::vector<Eigen::VectorXd> d_bending_sim;  // dΔσ_κ/dθ per bending sample, with derivatives
+  double bending_norm = 0.0;
+  double bending_weight = 0.0;
 };
+
+
 
 struct SweepSettings {
   int samples = 7;
@@ -107,5 +118,13 @@ double interpolate_target(const std::vector<db::UniaxialPoint>& points, double s
 // filling `e` (whose scale must be set). Returns why it failed, empty when it did not.
 std::string sweep_direction(yarn::YarnSystem& system, const Eigen::VectorXd& g_rest, const db::DirectionTargets& targets,
                             const SweepSettings& settings, DirectionError& e, SweepCounts& counts);
+
+// The bending term of one direction (see DirectionError): from the rest state (`system` at
+// χ = 0 with `g_rest`), bent about the direction's axis at `samples` curvatures evenly over the
+// targets' range (the largest included), with derivatives by `wanted`. Appends to `e`, adds its
+// share to e.value. Returns why it failed, empty when it did not.
+std::string sweep_bending(yarn::YarnSystem& system, const Eigen::VectorXd& g_rest, const db::DirectionTargets& targets,
+                          int samples, double weight, const yarn::EquilibriumOptions& solve,
+                          std::span<const yarn::YarnParam> wanted, DirectionError& e, SweepCounts& counts);
 
 }  // namespace yarnfit::calibration

@@ -78,6 +78,10 @@ db::Problems ObjectiveOptions::problems() const {
     out.add_field("compression_nodes", "must be at least 2 (got " + std::to_string(compression_nodes) + ")");
   if (!(comfort_line_force > 0.0)) out.add_field("comfort_line_force", "must be positive");
   if (!(min_compression_norm > 0.0)) out.add_field("min_compression_norm", "must be positive");
+  if (!(std::isfinite(compression_weight) && compression_weight >= 0.0))
+    out.add_field("compression_weight", "must be zero or positive");
+  if (!(std::isfinite(bending_weight) && bending_weight >= 0.0)) out.add_field("bending_weight", "must be zero or positive");
+  if (bending_samples < 1) out.add_field("bending_samples", "must be at least 1");
   if (!(compression_stress_fraction >= 0.0 && compression_stress_fraction < 0.1))
     out.add_field("compression_stress_fraction", "must be in [0, 0.1)");
   if (rest_period && !(period_stress_fraction > 0.0)) out.add_field("period_stress_fraction", "must be positive");
@@ -91,6 +95,7 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
   for (auto& t : targets) {
     if (t.stretch.size() < 2) continue;
     DirectionScale sc = comfort_scale(t, m_options);
+    sc.compression_weight = m_options.compression_weight;
     if (!(sc.stress_norm > 0.0)) {
       throw std::invalid_argument("objective: " + std::string(db::to_string(t.direction)) +
                                   " targets have no positive stress in the comfort range");
@@ -217,6 +222,9 @@ void YarnObjective::sweep_directions(const RestState& rest, const yarn::YarnPara
     if (params != nullptr && !same_params(*params, rest.params)) copy.set_params(*params);
     errors[k].scale = m_scales[k];
     failures[k] = sweep_direction(copy, rest.g, m_targets[k], sweep_settings(k, options), errors[k], counts[k]);
+    if (failures[k].empty() && !counts[k].stopped)
+      failures[k] = sweep_bending(copy, rest.g, m_targets[k], m_options.bending_samples, m_options.bending_weight,
+                                  m_options.solve, options.wanted, errors[k], counts[k]);
   }
   out.lower_bound = std::any_of(counts.begin(), counts.end(), [](const SweepCounts& c) { return c.stopped; });
   double total = 0.0;
@@ -248,7 +256,12 @@ WeightedErrors weighted_errors(const ObjectiveResult& result) {
       out.error.push_back((d.stress_sim[i] - d.stress_target[i]) / d.scale.stress_norm);
       out.weight.push_back(w);
       out.error.push_back((d.compression_sim[i] - d.compression_target[i]) / d.scale.compression_norm);
-      out.weight.push_back(w);
+      out.weight.push_back(w * d.scale.compression_weight);
+    }
+    const double nb = static_cast<double>(d.bending_sim.size());
+    for (std::size_t j = 0; j < d.bending_sim.size(); ++j) {
+      out.error.push_back((d.bending_sim[j] - d.bending_target[j]) / d.bending_norm);
+      out.weight.push_back(d.bending_weight / nb);
     }
   }
   return out;
@@ -258,7 +271,8 @@ Eigen::MatrixXd residual_jacobian(const ObjectiveResult& result) {
   if (!result.ok) return {};
   const auto k = static_cast<Eigen::Index>(result.derivative_params.size());
   Eigen::Index rows = 0;
-  for (const auto& d : result.directions) rows += 2 * static_cast<Eigen::Index>(d.stretch.size());
+  for (const auto& d : result.directions)
+    rows += 2 * static_cast<Eigen::Index>(d.stretch.size()) + static_cast<Eigen::Index>(d.bending_sim.size());
   Eigen::MatrixXd out(rows, k);
   Eigen::Index row = 0;
   for (const auto& d : result.directions) {
@@ -266,8 +280,12 @@ Eigen::MatrixXd residual_jacobian(const ObjectiveResult& result) {
     for (std::size_t i = 0; i < d.stretch.size(); ++i) {
       const double root_weight = std::sqrt(d.weight[i] / n);
       out.row(row++) = (root_weight / d.scale.stress_norm) * d.d_stress_sim[i].transpose();
-      out.row(row++) = (root_weight / d.scale.compression_norm) * d.d_compression_sim[i].transpose();
+      out.row(row++) = (root_weight * std::sqrt(d.scale.compression_weight) / d.scale.compression_norm) *
+                       d.d_compression_sim[i].transpose();
     }
+    const double nb = static_cast<double>(d.bending_sim.size());
+    for (std::size_t j = 0; j < d.bending_sim.size(); ++j)
+      out.row(row++) = (std::sqrt(d.bending_weight / nb) / d.bending_norm) * d.d_bending_sim[j].transpose();
   }
   return out;
 }

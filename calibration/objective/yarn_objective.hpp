@@ -2,7 +2,8 @@
 // The yarn-level calibration objective (thesis 6.5.3, eq. 6.11; SPEC §3 "Parameters"):
 //
 //   g(p) = Σ_dir [ mean_i w_i ((S_sim(s_i) − S_tgt(s_i)) / S_norm)²
-//                + mean_i w_i ((c_sim(s_i) − c_tgt(s_i)) / c_norm)² ]
+//                + w_c mean_i w_i ((c_sim(s_i) − c_tgt(s_i)) / c_norm)²
+//                + w_b mean_j ((Δσ_κ,sim(κ_j) − σ_κ,tgt(κ_j)) / σ_κ,norm)² ]   (bending targets)
 //
 // for a candidate p, after the rest-shape heuristic (6.5.2) has run on a copy of the tile with
 // p (rest_state.hpp), or on a rest state the caller holds (the local step's alternation). Per
@@ -108,6 +109,17 @@ struct ObjectiveOptions {
   // (shorter period) and a negative stress_tolerance 0 (the read-out test off: see the
   // constructor) when the objective is built.
   yarn::EquilibriumOptions solve;
+  // Weight of the compression terms beside the stress terms (1: the thesis's 6.11; 0: a fit
+  // to the stresses alone, e.g. where the measured compression is doubtful).
+  double compression_weight = 1.0;
+  // Bending in the fit (issue 48; SPEC §3 "Beyond the thesis"): where a direction has bending
+  // targets (the shell stage's k_θ from the pear-loop tests), its bending response Δσ_κ at
+  // `bending_samples` curvatures is a term of g beside its stresses, weighted so that a
+  // direction's bending term and its stress term count alike (bending_weight 1: the mean
+  // squared normalised error of each, added). 0: bending is only checked after the fit (the
+  // thesis's objective, kept by `--global swarm --local cobyla`).
+  double bending_weight = 1.0;
+  int bending_samples = 2;
   double comfort_line_force = 100.0 / 3.0;  // N/m: 2 N on a 6 cm swatch
   double min_compression_norm = 1e-3;
 

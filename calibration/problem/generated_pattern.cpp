@@ -18,7 +18,12 @@ std::string generated_tile_stem(const db::KnitSpec& knit) {
     if (c == '/') c = '-';
   char buf[96];
   std::snprintf(buf, sizeof buf, "_L%.6gmm_R%.6gmm", 1e3 * knit.stitch_length, 1e3 * knit.yarn_radius);
-  return "knit_" + rows + buf;
+  std::string stem = "knit_" + rows + buf;
+  if (knit.gauge) {
+    std::snprintf(buf, sizeof buf, "_C%.6g_W%.6g", knit.gauge->courses_per_10cm, knit.gauge->wales_per_10cm);
+    stem += buf;
+  }
+  return stem;
 }
 
 bool make_generated_pattern(db::Fabric& fabric, const fs::path& cache, db::Problems& problems) {
@@ -41,6 +46,10 @@ bool make_generated_pattern(db::Fabric& fabric, const fs::path& cache, db::Probl
   yarn::TileGenerationOptions options;
   options.geometry.stitch_length = knit.stitch_length;
   options.geometry.yarn_radius = knit.yarn_radius;
+  if (knit.gauge) {
+    options.geometry.wale_spacing = knit.gauge->wale_spacing();
+    options.geometry.course_spacing = knit.gauge->course_spacing();
+  }
   if (const auto ks2 = fabric.stiffest_yarn_stiffness()) options.default_ks2 = *ks2;
   yarn::GeneratedTile generated;
   try {

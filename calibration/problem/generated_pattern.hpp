@@ -13,7 +13,8 @@
 
 namespace yarnfit::calibration {
 
-// "knit_<rows>_L<L mm>_R<R mm>" (rows with '/' as '-'): the cache name of a generated tile.
+// "knit_<rows>_L<L mm>_R<R mm>[_C<courses>_W<wales> per 10 cm]" (rows with '/' as '-'): the cache name
+// of a generated tile.
 [[nodiscard]] std::string generated_tile_stem(const db::KnitSpec& knit);
 
 // For a fabric whose pattern is a knit without a tile yet: reads `cache`/<stem>.pyp when it

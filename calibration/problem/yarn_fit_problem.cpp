@@ -32,6 +32,7 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
   YarnFitProblem problem;
   problem.fabric_id = fabric.id;
   problem.family = fabric.family;
+  problem.hold_period = fabric.pattern->knit && fabric.pattern->knit->gauge;
   // A generated tile was relaxed with contact radius R1 = the knit's yarn radius (its yarns
   // rest pressed into each other, so its geometric R_est is smaller): the bounds are centred
   // on the radius it was made with, which the generation's parameters then lie inside.
@@ -69,6 +70,7 @@ YarnFitSettings settings_for(const YarnFitProblem& problem, YarnFitSettings sett
     settings.start = problem.start;
     settings.swarm = false;
   }
+  if (problem.hold_period) settings.objective.rest.period_chord_steps = 0;
   return settings;
 }
 

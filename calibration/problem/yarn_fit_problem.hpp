@@ -35,6 +35,9 @@ struct YarnFitProblem {
   std::vector<db::DirectionTargets> targets;
   std::string targets_source;    // where the targets came from (yarn_fit.json's `targets`)
   std::optional<yarn::YarnParams> start;  // the local step's start; the swarm is then skipped
+  // The tile was generated at the record's knitting gauge: every rest state holds its period
+  // (no period chord steps; the rest lengths and curvatures absorb the rest stress).
+  bool hold_period = false;
 };
 
 // Adds a problem naming yarns.stiffness_N when `fabric` has no yarn stiffness (ks2 comes from
@@ -53,7 +56,8 @@ std::optional<YarnFitProblem> make_yarn_fit_problem(const db::Fabric& fabric, db
 void read_start(YarnFitProblem& problem, const std::filesystem::path& file, bool linear_stretch,
                 db::Problems& problems);
 
-// The settings the fit runs with: with a start, the local step alone from it.
+// The settings the fit runs with: with a start, the local step alone from it; with a held
+// period, rest states without period steps.
 YarnFitSettings settings_for(const YarnFitProblem& problem, YarnFitSettings settings);
 
 // Runs the calibration on the problem with settings_for(problem, settings) (calibration's

@@ -89,12 +89,24 @@ struct BendingTest {
 
 enum class Axis { x, y };
 
+// The knitting gauge as fabric specifications state it (SPEC §2 `knitting_gauge`): courses and
+// wales per 10 cm of the relaxed fabric. A tile generated for the record is built at this
+// period and holds it (issue 48).
+struct KnittingGauge {
+  double courses_per_10cm = 0.0;
+  double wales_per_10cm = 0.0;
+  [[nodiscard]] double course_spacing() const { return 0.1 / courses_per_10cm; }  // [m]
+  [[nodiscard]] double wale_spacing() const { return 0.1 / wales_per_10cm; }      // [m]
+  bool operator==(const KnittingGauge&) const = default;
+};
+
 // A tile to generate from the knit (`pattern: {knit: seed, stitch_length_mm: 15.67,
 // yarn_radius_mm: 1.2}`, issue 20): made when a yarn fit needs it, never in the fabric's folder.
 struct KnitSpec {
   KnitChart chart;
   double stitch_length = 0.0;  // [m]
   double yarn_radius = 0.0;    // [m]
+  std::optional<KnittingGauge> gauge;  // the record's knitting_gauge: the period to hold
 };
 
 struct PatternRef {
@@ -116,6 +128,8 @@ struct Fabric {
   std::vector<YarnSpec> yarns;
   std::optional<PatternRef> pattern;
   std::optional<Swatch> swatch;         // the fabric's default swatch
+  std::optional<KnittingGauge> knitting_gauge;  // as the fabric's specification states it
+  std::optional<double> thickness;      // [m], as stated
   std::map<Direction, StretchTest> stretch_tests;
   std::map<Direction, BendingTest> bending_tests;
   nlohmann::json ground_truth = nlohmann::json::object();  // synthetic fabrics only

@@ -141,8 +141,9 @@ class YamlChecker {
 };
 
 const std::vector<std::string> k_top_keys{
-    "id",      "family", "description",   "areal_density_gsm", "yarns",
-    "pattern", "swatch", "stretch_tests", "bending_tests",     "ground_truth"};
+    "id",      "family",         "description",  "areal_density_gsm", "yarns",         "pattern",
+    "swatch",  "knitting_gauge", "thickness_mm", "stretch_tests",     "bending_tests", "ground_truth"};
+const std::vector<std::string> k_knitting_gauge_keys{"courses_per_10cm", "wales_per_10cm"};
 const std::vector<std::string> k_yarn_keys{"material", "denier", "filaments", "mass_fraction",
                                            "stiffness_N"};
 const std::vector<std::string> k_size_keys{"length_mm", "width_mm"};
@@ -157,6 +158,15 @@ std::optional<Swatch> read_swatch(YamlChecker& y, const YAML::Node& node, const 
   const auto width = y.number(node, "width_mm", path, true, true);
   if (!length || !width) return std::nullopt;
   return Swatch{*length * k_mm, *width * k_mm};
+}
+
+// `knitting_gauge: {courses_per_10cm, wales_per_10cm}`: both, each positive.
+std::optional<KnittingGauge> read_knitting_gauge(YamlChecker& y, const YAML::Node& node) {
+  if (!y.check_map(node, "knitting_gauge", k_knitting_gauge_keys)) return std::nullopt;
+  const auto courses = y.number(node, "courses_per_10cm", "knitting_gauge", true, true);
+  const auto wales = y.number(node, "wales_per_10cm", "knitting_gauge", true, true);
+  if (!courses || !wales) return std::nullopt;
+  return KnittingGauge{*courses, *wales};
 }
 
 std::optional<Gauge> read_gauge(YamlChecker& y, const YAML::Node& node, const std::string& path) {
@@ -263,7 +273,7 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
       if (!chart) y.problem(knit_node, "pattern.knit", why);
     }
     if (has_file || !chart || !length || !radius) return;
-    ref.knit = KnitSpec{*chart, *length * k_mm, *radius * k_mm};
+    ref.knit = KnitSpec{*chart, *length * k_mm, *radius * k_mm, std::nullopt};
     fabric.pattern = std::move(ref);
     return;
   }
@@ -500,7 +510,11 @@ FabricLoad load_fabric(const fs::path& folder) {
   if (const auto s = YamlChecker::find(doc, "swatch").second; s.IsDefined()) {
     fabric.swatch = read_swatch(y, s, "swatch");
   }
+  if (const auto g = YamlChecker::find(doc, "knitting_gauge").second; g.IsDefined())
+    fabric.knitting_gauge = read_knitting_gauge(y, g);
+  if (const auto t = y.number(doc, "thickness_mm", "", false, true)) fabric.thickness = *t * k_mm;
   read_pattern(y, doc, fabric, load.problems);
+  if (fabric.pattern && fabric.pattern->knit) fabric.pattern->knit->gauge = fabric.knitting_gauge;
   read_stretch_tests(y, doc, fabric, load.problems);
   read_bending_tests(y, doc, fabric, load.problems);
   if (const auto gt = YamlChecker::find(doc, "ground_truth"); gt.second.IsDefined()) {

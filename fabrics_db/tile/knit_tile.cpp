@@ -91,7 +91,11 @@ Problems KnitTileOptions::problems() const {
                   "must be at least 8 (two legs, a head and a sinker), got " + std::to_string(vertices_per_stitch));
   must_be_positive("depth", depth);
   must_be_positive("course_ratio", course_ratio);
-  must_be_positive("height_ratio", height_ratio);
+  must_be_positive("overlap_ratio", overlap_ratio);
+  if (wale_spacing.has_value() != course_spacing.has_value())
+    out.add_field("course_spacing", "give both spacings of a held period, or neither");
+  if (wale_spacing) must_be_positive("wale_spacing", *wale_spacing);
+  if (course_spacing) must_be_positive("course_spacing", *course_spacing);
   if (!std::isfinite(bulge_ratio) || bulge_ratio < 0.0) out.add_field("bulge_ratio", "must be zero or positive");
   return out;
 }
@@ -107,14 +111,16 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
   // The wale spacing at which the chart's loops are L long on average; the shortest loop
   // possible (w → 0) is the depth profile's travel alone.
   const auto shape = [&](double w, const Depths& z) {
-    return LoopShape{w, options.course_ratio * w, options.height_ratio * w, options.bulge_ratio * w, z};
+    const double p = options.course_ratio * w;
+    return LoopShape{w, p, options.overlap_ratio * p, options.bulge_ratio * w, z};
   };
-  const auto mean_length = [&](double w) {
+  const auto mean_length_of = [&](const auto& shape_at) {
     double sum = 0.0;
     for (int j = 0; j < chart.courses(); ++j)
-      for (int k = 0; k < chart.wales(); ++k) sum += loop_length(shape(w, depths_of(chart, j, k, gap)), n);
+      for (int k = 0; k < chart.wales(); ++k) sum += loop_length(shape_at(depths_of(chart, j, k, gap)), n);
     return sum / (chart.courses() * chart.wales());
   };
+  const auto mean_length = [&](double w) { return mean_length_of([&](const Depths& z) { return shape(w, z); }); };
   // A stitch too short for crossings a full gap apart (a tightly knitted, thick yarn) gets a
   // smaller gap, so that the depth travel takes at most two thirds of L, down to R/2: such
   // yarns start pressed into each other's soft contact layer, never past the inner one.
@@ -128,13 +134,40 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
                                 " mm is too short for loops whose crossings are " + std::to_string(gap * 1e3) +
                                 " mm apart (2 x yarn radius x depth): it needs more than " +
                                 std::to_string(shortest * 1e3) + " mm");
-  const double w = solve_increasing(mean_length, 1e-9 * length, length, length);
+  // The loop proportions: from L alone, or fitted into a held period.
+  double w = 0.0, p = 0.0, h = 0.0, bulge = 0.0;
+  if (options.wale_spacing) {
+    w = *options.wale_spacing;
+    p = *options.course_spacing;
+    const auto held = [&](double height, double a) {
+      return mean_length_of([&](const Depths& z) { return LoopShape{w, p, height, a, z}; });
+    };
+    h = options.overlap_ratio * p;
+    const double shortest_here = held(0.5 * p, 0.0), longest_here = held(3.0 * p, 0.5 * w);
+    if (!(length > shortest_here) || !(length < longest_here))
+      throw std::invalid_argument("make_knit_tile: loops " + std::to_string(length * 1e3) + " mm long do not fit a period of " +
+                                  std::to_string(w * 1e3) + " x " + std::to_string(p * 1e3) +
+                                  " mm per stitch (they can be " + std::to_string(shortest_here * 1e3) + " to " +
+                                  std::to_string(longest_here * 1e3) + " mm): check the gauge against the stitch length");
+    if (held(h, 0.0) > length) {
+      h = solve_increasing([&](double height) { return held(height, 0.0); }, 0.5 * p, h, length);
+    } else if (held(h, 0.5 * w) >= length) {
+      bulge = solve_increasing([&](double a) { return held(h, a); }, 0.0, 0.5 * w, length);
+    } else {
+      bulge = 0.5 * w;
+      h = solve_increasing([&](double height) { return held(height, bulge); }, h, 3.0 * p, length);
+    }
+  } else {
+    w = solve_increasing(mean_length, 1e-9 * length, length, length);
+    const LoopShape s = shape(w, {});
+    p = s.p, h = s.h, bulge = s.a;
+  }
 
   KnitTile out;
   out.chart = chart;
   out.wale_spacing = w;
   out.crossing_gap = gap;
-  out.course_spacing = options.course_ratio * w;
+  out.course_spacing = p;
   PeriodicTile& tile = out.tile;
   const int courses = chart.courses();
   const int wales = chart.wales();
@@ -143,7 +176,7 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
   tile.radius = options.yarn_radius;
   for (int j = 0; j < courses; ++j) {
     for (int k = 0; k < wales; ++k) {
-      LoopShape s = shape(w, depths_of(chart, j, k, gap));
+      LoopShape s{w, p, h, bulge, depths_of(chart, j, k, gap)};
       // A depth profile that travels less (or more) than the chart's mean: widen (or narrow)
       // the head until this loop is L long.
       const double a0 = s.a;

@@ -27,11 +27,17 @@
 // mirrored in z, as stitch-by-stitch models purls (sabetta/stitch-by-stitch,
 // code/fabric_simulations). Every crossing of two loops is δ apart in depth.
 //
-// Scale: w is found by bisection so that the chart's loops have the mean polyline length L;
+// Scale: w is found by bisection so that the chart's loops have the mean polyline length L
+// (p = course_ratio · w, h = overlap_ratio · p, a = bulge_ratio · w);
 // then each loop's bulge a is adjusted (bisection) so that its own length is L: a loop whose
 // depth profile travels less than the mean takes a wider head. Rest lengths are the
 // edge lengths, rest curvatures zero (a straight yarn at rest), reference directors default.
+//
+// A held period (issue 48: the record's knitting gauge, or the yarn fit's shape): w and p are
+// given, and the loops take the length L by their shape instead: the bulge a (0 to w/2), then
+// the loop height h (down to p/2 for a short stitch, up to 3p for a long one).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,10 +52,12 @@ struct KnitTileOptions {
   double yarn_radius = 0.0;    // R [m]
   int vertices_per_stitch = 16;
   double depth = 1.0;          // δ / 2R: crossing yarns start δ = 2R apart, just touching
-  // Proportions to the wale spacing (Crane 2023).
-  double course_ratio = 0.716;  // p / w
-  double height_ratio = 1.273;  // h / w
-  double bulge_ratio = 0.239;   // a / w
+  // Proportions (Crane 2023: p/w = 0.716, h/w = 1.273, a/w = 0.239).
+  double course_ratio = 0.716;   // p / w: the tile's aspect (courses against wales)
+  double overlap_ratio = 1.273 / 0.716;  // h / p: how far a loop reaches into the course above
+  double bulge_ratio = 0.239;    // a / w
+  // The period to hold [m]: both set, or neither (then w follows from L and course_ratio).
+  std::optional<double> wale_spacing, course_spacing;
 
   // What is wrong, under each option's name; empty if usable.
   [[nodiscard]] Problems problems() const;

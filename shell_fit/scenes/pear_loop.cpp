@@ -415,6 +415,7 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
     sample.seconds = numerics::seconds_since(t0);
     if (out.message.empty() && !sample.message.empty()) out.message = sample.message;
     out.samples.push_back(sample);
+    if (!sample.converged && m_setup.stop_at_first_failure) break;
   }
   out.ok = true;
   for (const auto& s : out.samples)

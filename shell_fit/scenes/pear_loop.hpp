@@ -83,6 +83,9 @@ struct PearLoopSetup {
   int cells_across = 0;
   double target_edge = 2.5e-3;  // default cell size [m]
   int refinements = 0;          // midpoint subdivisions (mesh-convergence checks)
+  // End a run at its first distance without an equilibrium (the rest are not simulated): a
+  // check of a law against a record needs no more than that one failure to say so.
+  bool stop_at_first_failure = false;
 };
 
 struct PearLoopSample {

@@ -31,7 +31,7 @@ TEST(LibraryExample, FitsTheBundledExampleAndPrintsItsErrors) {
   ASSERT_TRUE(std::regex_search(out, m, shell)) << out;
   for (const char* d : {"weft", "bias", "warp"})
     EXPECT_NE(out.find(std::string("yarn errors (") + d + "): stress comfort "), std::string::npos) << out;
-  EXPECT_NE(out.find("wrote 6 files"), std::string::npos) << out;
+  EXPECT_NE(out.find("wrote 7 files"), std::string::npos) << out;
   // The synthetic example is recovered by the shell fit (README: force 0.07 %).
   EXPECT_LT(std::stod(m[1]), 1.0) << out;
   const auto j = nlohmann::json::parse(read_file(dir / "out" / "shell_fit.json"));

@@ -159,6 +159,12 @@ std::vector<BrokenCase> broken_cases() {
        expect_line("fabric.yaml", 16, "stretch_tests.weft.file: 'linked.csv' is a link that leaves the record's folder")},
       {"PatternFileAbsolute", [](P d) { add_pattern_line(d, "{file: /etc/hostname}"); },
        expect_line("fabric.yaml", 14, "pattern.file: an absolute path")},
+      {"KnittingGaugeWithoutWales", [](P d) { replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "knitting_gauge: {courses_per_10cm: 52}\nswatch: {length_mm: 100"); },
+       expect_line("fabric.yaml", 14, "knitting_gauge.wales_per_10cm: missing required key")},
+      {"KnittingGaugeNegative", [](P d) { replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "knitting_gauge: {courses_per_10cm: -52, wales_per_10cm: 38}\nswatch: {length_mm: 100"); },
+       expect_line("fabric.yaml", 14, "knitting_gauge.courses_per_10cm: must be positive")},
+      {"ThicknessNotANumber", [](P d) { replace_in_file(d / "fabric.yaml", "swatch: {length_mm: 100", "thickness_mm: thick\nswatch: {length_mm: 100"); },
+       expect_line("fabric.yaml", 14, "thickness_mm: expected a number")},
       {"FamilyNotUtf8", [](P d) { replace_in_file(d / "fabric.yaml", "family: test-family", "family: test-\xff\xfe"); },
        expect_line("fabric.yaml", 2, "family: not valid UTF-8 text")},
   };
@@ -220,6 +226,23 @@ TEST(ValidateRecord, BaseRecordIsValid) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   EXPECT_NE(r.out.find("1 fabric: 1 valid, 0 invalid"), std::string::npos) << r.out;
+}
+
+// A record may state its knitting gauge and thickness (SPEC §2); a knit pattern takes the gauge.
+TEST(ValidateRecord, AKnittingGaugeAndThicknessAreRead) {
+  ScratchDir dir("gauge");
+  write_base_fabric(dir / "K");
+  add_pattern_line(dir / "K", "{knit: stockinette, stitch_length_mm: 11.28, yarn_radius_mm: 0.74}");
+  replace_in_file(dir / "K" / "fabric.yaml", "swatch: {length_mm: 100",
+                  "knitting_gauge: {courses_per_10cm: 52, wales_per_10cm: 38}\nthickness_mm: 1.1\nswatch: {length_mm: 100");
+  const auto load = yarnfit::db::load_fabric(dir / "K");
+  ASSERT_TRUE(load.ok()) << load.problems.to_string();
+  ASSERT_TRUE(load.fabric->knitting_gauge);
+  EXPECT_DOUBLE_EQ(load.fabric->knitting_gauge->courses_per_10cm, 52.0);
+  EXPECT_DOUBLE_EQ(load.fabric->knitting_gauge->wale_spacing(), 0.1 / 38.0);
+  EXPECT_DOUBLE_EQ(*load.fabric->thickness, 1.1e-3);
+  ASSERT_TRUE(load.fabric->pattern->knit->gauge);
+  EXPECT_EQ(*load.fabric->pattern->knit->gauge, *load.fabric->knitting_gauge);
 }
 
 // A pattern may name a knit whose tile yarnfit generates: read, with no tile yet.

@@ -50,6 +50,37 @@ db::PeriodicTile tile_at_rest(const db::PeriodicTile& source, const YarnSystem& 
   return out;
 }
 
+namespace {
+
+// A held period (a knitting gauge): the rest-shape heuristic without its period steps, so that
+// the rest lengths and curvatures absorb what stress they can (thesis 6.5.2); the rest stress
+// left is reported, not driven under the tolerance (only the period could do that).
+void hold_period(YarnSystem& system, Eigen::VectorXd& g, const TileGenerationOptions& options, GeneratedTile& out) {
+  RestShapeOptions rest;
+  rest.period_chord_steps = 0;
+  rest.solve = options.solve;
+  const RestShapeResult relaxed = relax_rest_shape(system, g, rest);
+  out.rounds = 1;
+  out.relaxation.converged = relaxed.converged;
+  out.relaxation.rest_stress = relaxed.rest_stress;
+  out.relaxation.initial_stress = relaxed.stress_before_period;
+  if (!relaxed.converged) {
+    out.message = "rest shape at the held period: the last solve did not converge";
+    return;
+  }
+  out.stress_at_10 = {stress_at_ten_percent(system, g, weft_angle(), options.solve),
+                      stress_at_ten_percent(system, g, warp_angle(), options.solve)};
+  if (!out.stress_at_10.allFinite()) {
+    out.message = "sigma_s at 10 % stretch could not be measured at the held period";
+    return;
+  }
+  const Eigen::Vector2d rest_stress(relaxed.rest_stress(0, 0), relaxed.rest_stress(1, 1));
+  out.rest_stress_ratio = rest_stress.cwiseAbs().cwiseQuotient(out.stress_at_10.cwiseAbs()).maxCoeff();
+  out.converged = true;  // the rest stress left is the gauge's: reported, not a failure
+}
+
+}  // namespace
+
 GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGenerationOptions& options) {
   const auto start = numerics::Clock::now();
   GeneratedTile out;
@@ -66,6 +97,9 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
   // spacing, the line force of a 1 % strain of one yarn per wale); every later round uses the
   // measured σ_s(10 %).
   Eigen::Vector2d tolerance = Eigen::Vector2d::Constant(1e-2 * out.params.ks1 / out.initial.wale_spacing);
+  if (options.geometry.wale_spacing || options.hold_period) {
+    hold_period(system, g, options, out);
+  } else
   for (out.rounds = 1; out.rounds <= options.rounds; ++out.rounds) {
     RestPeriodOptions relax;
     relax.tolerance = tolerance;
@@ -95,10 +129,11 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
       break;
     }
   }
-  if (!out.converged && out.message.empty())
+  if (!out.converged && out.message.empty() && !options.geometry.wale_spacing && !options.hold_period)
     out.message = "rest stress " + std::to_string(out.rest_stress_ratio) + " of sigma_s(10 %) after " +
                   std::to_string(options.rounds) + " rounds";
   out.rounds = std::min(out.rounds, options.rounds);
+  out.held_period = options.geometry.wale_spacing.has_value() || options.hold_period;
   out.tile = tile_at_rest(out.initial.tile, system, g);
   out.min_distance = system.min_contact_distance(g);
   double rest_length = 0.0;

@@ -8,7 +8,11 @@
 //      `rest_stress_fraction` of the tile's σ_s at 10 % stretch, in weft and in warp
 //      (rest_period.hpp); σ_s(10 %) is measured on the relaxed tile and the relaxation
 //      repeated while that changes the tolerance it was run with.
-// The spacings of courses and wales come out of the mechanics of step 3.
+// The spacings of courses and wales come out of the mechanics of step 3 — unless the geometry
+// holds a period (a knitting gauge, issue 48): then step 3 is the rest-shape heuristic at that
+// period (thesis 6.5.2: the rest lengths, within ±20 %, and the rest curvatures absorb the
+// rest stress), and the rest stress left is reported (rest_stress_ratio), not driven to the
+// tolerance.
 //
 // Yarn parameters: given, or default_params with R_est = R (SPEC §3: R1 = R, R2 = R/4, …)
 // and ks2 = 400 N. Every default stiffness is proportional to ks2, so the relaxed geometry
@@ -22,6 +26,7 @@
 #include "fabrics_db/tile/knit_tile.hpp"
 #include "results/tile_file.hpp"
 #include "yarn_fit/homogenise/rest_period.hpp"
+#include "yarn_fit/homogenise/rest_shape.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 
@@ -34,6 +39,10 @@ struct TileGenerationOptions {
   double rest_stress_fraction = 0.01;
   int rounds = 3;                     // relaxations, each with the latest σ_s(10 %)
   int max_period_steps = 40;
+  // Hold the period the initial loops were built at (their course_ratio and stitch length
+  // decide it) instead of relaxing it by the mechanics; a gauge (geometry's spacings) holds
+  // its period whatever this says.
+  bool hold_period = false;
   EquilibriumOptions solve;
 };
 
@@ -50,6 +59,7 @@ struct GeneratedTile {
   double min_distance = 0.0;            // smallest centreline distance at rest [m]
   double stitch_length = 0.0;           // rest length per stitch [m]
   double seconds = 0.0;
+  bool held_period = false;             // built at a given period and held there
 
   [[nodiscard]] double wale_spacing() const { return tile.period_x / initial.chart.wales(); }
   [[nodiscard]] double course_spacing() const { return tile.period_y / initial.chart.courses(); }

@@ -224,7 +224,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
 }
 
 BendingSample simulate_bending(YarnSystem& system, const CoarseDeformation& chi, Eigen::VectorXd& g,
-                               double step, const EquilibriumOptions& options) {
+                               double step, const EquilibriumOptions& options, std::span<const YarnParam> wanted) {
   BendingSample out;
   const double h = step > 0.0 ? step : 1e-3 / system.tile().radius;
   CoarseDeformation plus = chi, minus = chi;
@@ -234,7 +234,11 @@ BendingSample simulate_bending(YarnSystem& system, const CoarseDeformation& chi,
   out.centre = simulate_sample(system, chi, gc, options);
   Eigen::VectorXd gp = gc, gm = gc;
   const Sample sp = simulate_sample(system, plus, gp, options);
+  Eigen::VectorXd d_plus;
+  if (sp.ok && !wanted.empty()) d_plus = system.parameter_derivatives(gp, wanted).energy / system.area();
   const Sample sm = simulate_sample(system, minus, gm, options);
+  if (sm.ok && sp.ok && !wanted.empty())
+    out.d_stress_kappa = (d_plus - system.parameter_derivatives(gm, wanted).energy / system.area()) / (2.0 * h);
   out.ok = out.centre.ok && sp.ok && sm.ok;
   if (out.ok) {
     out.stress_kappa = (sp.energy_density - sm.energy_density) / (2.0 * h);

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -88,14 +89,19 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
                               const EquilibriumOptions& options = {});
 
 // dΨ/dκ by central differences of equilibrated Ψ with step h [1/m] (0: 1e-3 / yarn radius).
+// With parameters `wanted`, also dσ_κ/dθ: by the envelope theorem dΨ/dθ at each of the two
+// equilibria is the energy's partial derivative at fixed state (the rest shape held), so
+// dσ_κ/dθ = (∂Ψ/∂θ(κ + h) − ∂Ψ/∂θ(κ − h)) / 2h, the same difference of exact derivatives.
 struct BendingSample {
   Sample centre;
   double stress_kappa = 0.0;  // [N] (J/m² per 1/m)
+  Eigen::VectorXd d_stress_kappa;  // dσ_κ/dθ for `wanted` (empty without)
   bool ok = false;
   std::string message;
 };
 BendingSample simulate_bending(YarnSystem& system, const CoarseDeformation& chi,
                                Eigen::VectorXd& g, double step = 0.0,
-                               const EquilibriumOptions& options = {});
+                               const EquilibriumOptions& options = {},
+                               std::span<const YarnParam> wanted = {});
 
 }  // namespace yarnfit::yarn

@@ -24,7 +24,7 @@ using yarnfit::testing::ScratchDir;
 db::Fabric knit_fabric(const std::string& chart, double stitch_length_mm, double radius_mm) {
   db::Fabric f = bundled_example();
   f.pattern = db::PatternRef{};
-  f.pattern->knit = db::KnitSpec{*db::parse_knit_chart(chart), 1e-3 * stitch_length_mm, 1e-3 * radius_mm};
+  f.pattern->knit = db::KnitSpec{*db::parse_knit_chart(chart), 1e-3 * stitch_length_mm, 1e-3 * radius_mm, std::nullopt};
   return f;
 }
 
@@ -55,6 +55,39 @@ TEST(GeneratedPattern, MadeOnceIntoTheCacheAndReadFromItAfterwards) {
   ASSERT_TRUE(problem) << problems.to_string();
   EXPECT_DOUBLE_EQ(problem->scales.r_est, 0.74e-3) << "bounds centred on the knit's radius";
   EXPECT_LT(second.pattern->facts.r_est, 0.74e-3) << "the relaxed yarns rest pressed together";
+}
+
+// A record's knitting gauge (issue 48): the tile is generated at its period, cached under a name
+// that says the gauge, and every rest state of the fit holds that period (no period steps).
+TEST(GeneratedPattern, AGaugeIsTheTilesPeriodThroughTheFit) {
+  ScratchDir dir("generated_gauge");
+  db::Fabric fabric = knit_fabric("stockinette", 11.28, 0.74);
+  fabric.pattern->knit->gauge = db::KnittingGauge{56.0, 32.0};
+  db::Problems problems;
+  ASSERT_TRUE(make_generated_pattern(fabric, dir / "tiles", problems)) << problems.to_string();
+  EXPECT_EQ(fabric.pattern->file, dir / "tiles" / "knit_k_L11.28mm_R0.74mm_C56_W32.pyp");
+  EXPECT_NEAR(fabric.pattern->tile.period_x, 0.1 / 32.0, 1e-12);
+  EXPECT_NEAR(fabric.pattern->tile.period_y, 0.1 / 56.0, 1e-12);
+  auto problem = make_yarn_fit_problem(fabric, problems);
+  ASSERT_TRUE(problem) << problems.to_string();
+  EXPECT_TRUE(problem->hold_period);
+  const YarnFitSettings settings = settings_for(*problem, YarnFitSettings{});
+  EXPECT_EQ(settings.objective.rest.period_chord_steps, 0);
+  // A candidate's rest state keeps the period.
+  db::DirectionTargets weft{db::Direction::weft, {{0.0, 0.0, 0.0, true}, {0.2, 0.05, 50.0, true}}, {}};
+  const YarnObjective objective(problem->tile, {weft}, settings.objective);
+  const RestState rest = objective.rest_state(yarn::default_params(problem->scales));
+  ASSERT_TRUE(rest.ok) << rest.message;
+  EXPECT_NEAR(rest.system->tile().lattice(0, 0), 0.1 / 32.0, 1e-12);
+  EXPECT_NEAR(rest.system->tile().lattice(1, 1), 0.1 / 56.0, 1e-12);
+  EXPECT_TRUE(rest.rest.period_stretch.isZero());
+  // Without a gauge, the rest states move the period (the chord steps).
+  db::Fabric free = knit_fabric("stockinette", 11.28, 0.74);
+  ASSERT_TRUE(make_generated_pattern(free, dir / "tiles", problems)) << problems.to_string();
+  const auto free_problem = make_yarn_fit_problem(free, problems);
+  ASSERT_TRUE(free_problem);
+  EXPECT_FALSE(free_problem->hold_period);
+  EXPECT_GT(settings_for(*free_problem, YarnFitSettings{}).objective.rest.period_chord_steps, 0);
 }
 
 TEST(GeneratedPattern, AStitchTooShortForItsYarnIsAProblemOfTheRecord) {

@@ -60,6 +60,44 @@ TEST(KnitGeneration, AcrylicKnitsRelaxToAStressFreeRestKeepingTheirStitchLength)
 
 // The pyp tile written is the relaxed state: read back with the same parameters it is in
 // equilibrium at once and carries the same rest stress.
+// A knitting gauge (issue 48): the loops are built at its period and hold it; the yarn length
+// per stitch moves within the heuristic's ±20 %, and the rest stress left is reported.
+TEST(KnitGeneration, AGaugeBuildsTheTileAtItsPeriodAndHoldsIt) {
+  struct Case {
+    const char* chart;
+    double stitch_length_mm, radius_mm, courses_per_10cm, wales_per_10cm;
+  };
+  for (const Case& c : std::vector<Case>{{"stockinette", 11.28, 0.74, 56.0, 32.0}, {"garter", 10.55, 0.54, 80.0, 40.0}}) {
+    SCOPED_TRACE(c.chart);
+    const auto chart = db::parse_knit_chart(c.chart);
+    ASSERT_TRUE(chart);
+    TileGenerationOptions o = options_for(c.stitch_length_mm, c.radius_mm);
+    o.geometry.course_spacing = 0.1 / c.courses_per_10cm;
+    o.geometry.wale_spacing = 0.1 / c.wales_per_10cm;
+    const GeneratedTile t = generate_knit_tile(*chart, o);
+    ASSERT_TRUE(t.converged) << t.message;
+    EXPECT_TRUE(t.held_period);
+    EXPECT_NEAR(t.tile.period_x, chart->wales() * 0.1 / c.wales_per_10cm, 1e-12);
+    EXPECT_NEAR(t.tile.period_y, chart->courses() * 0.1 / c.courses_per_10cm, 1e-12);
+    EXPECT_NEAR(t.course_spacing(), 0.1 / c.courses_per_10cm, 1e-12);
+    EXPECT_NEAR(t.initial.wale_spacing, 0.1 / c.wales_per_10cm, 1e-15);
+    EXPECT_LE(std::abs(t.stitch_length / o.geometry.stitch_length - 1.0), 0.2 + 1e-9);
+    EXPECT_TRUE(std::isfinite(t.rest_stress_ratio));
+    // The initial loops are L long at that period: their shape took the length.
+    for (const double l : t.initial.stitch_lengths) EXPECT_NEAR(l, o.geometry.stitch_length, 1e-6 * o.geometry.stitch_length);
+  }
+  // A gauge the stitch cannot fill is refused, naming the gauge.
+  TileGenerationOptions o = options_for(11.28, 0.74);
+  o.geometry.course_spacing = 0.1 / 10.0;
+  o.geometry.wale_spacing = 0.1 / 5.0;
+  try {
+    (void)generate_knit_tile(*db::parse_knit_chart("stockinette"), o);
+    ADD_FAILURE() << "expected a refusal";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("check the gauge"), std::string::npos) << e.what();
+  }
+}
+
 TEST(KnitGeneration, TheWrittenTileIsTheRelaxedEquilibrium) {
   const GeneratedTile t = generate_knit_tile(*db::parse_knit_chart("rib1x1"), options_for(16.10, 1.18));
   ASSERT_TRUE(t.converged) << t.message;

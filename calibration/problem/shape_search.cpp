@@ -1,0 +1,197 @@
+#include "calibration/problem/shape_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "numerics/util/clock.hpp"
+#include "yarn_fit/generate/knit_generation.hpp"
+
+namespace yarnfit::calibration {
+namespace {
+
+constexpr double k_inf = std::numeric_limits<double>::infinity();
+constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+
+// A tile of the knit at aspect a and loop density K_s, held there, its crossings 2R apart.
+std::optional<db::PeriodicTile> shaped_tile(const db::KnitSpec& knit, double aspect, double density, double radius,
+                                            double ks2, std::string& why) {
+  yarn::TileGenerationOptions o;
+  o.geometry.stitch_length = knit.stitch_length;
+  o.geometry.yarn_radius = radius;
+  o.geometry.wale_spacing = knit.stitch_length / std::sqrt(density * aspect);
+  o.geometry.course_spacing = knit.stitch_length * std::sqrt(aspect / density);
+  o.default_ks2 = ks2;
+  try {
+    yarn::GeneratedTile t = yarn::generate_knit_tile(knit.chart, o);
+    if (!t.converged) {
+      why = t.message;
+      return std::nullopt;
+    }
+    return std::move(t.tile);
+  } catch (const std::invalid_argument& e) {
+    why = e.what();
+    return std::nullopt;
+  }
+}
+
+// The parabola through three points: its vertex and the half-width where it reaches twice
+// the best value (NaN when it opens downwards).
+struct Parabola {
+  double vertex = k_nan;
+  double lower = k_nan, upper = k_nan;
+};
+Parabola parabola(double x0, double y0, double x1, double y1, double x2, double y2, double best) {
+  const double d01 = (y1 - y0) / (x1 - x0), d12 = (y2 - y1) / (x2 - x1);
+  const double a = (d12 - d01) / (x2 - x0);
+  Parabola p;
+  if (!(a > 0.0)) return p;
+  const double b = d01 - a * (x0 + x1);
+  p.vertex = -b / (2.0 * a);
+  const double c = y0 - a * x0 * x0 - b * x0;
+  const double at_vertex = c - b * b / (4.0 * a);
+  const double rise = 2.0 * best - at_vertex;
+  if (rise > 0.0) {
+    const double half = std::sqrt(rise / a);
+    p.lower = p.vertex - half;
+    p.upper = p.vertex + half;
+  }
+  return p;
+}
+
+}  // namespace
+
+std::optional<LoopShapePrior> loop_shape_prior(const db::KnitChart& chart) {
+  int knits = 0, purls = 0;
+  for (int j = 0; j < chart.courses(); ++j)
+    for (int k = 0; k < chart.wales(); ++k) (chart.face_sign(j, k) > 0 ? knits : purls)++;
+  if (knits > 0 && purls > 0) return std::nullopt;
+  return LoopShapePrior{6.35, 3.60, "plain knit: loop-shape constants of the registered HYLC stockinette tiles (K_c = 6.35, K_w = 3.60)"};
+}
+
+bool shape_is_fitted(const db::Fabric& fabric, const YarnFitSettings& yarn, const ShapeSearchSettings& shape) {
+  const bool thesis = yarn.global_method == GlobalMethod::swarm && yarn.local_method == LocalMethod::cobyla;
+  return shape.enabled && !thesis && fabric.pattern && fabric.pattern->knit && !fabric.pattern->knit->gauge;
+}
+
+YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const YarnFitSettings& settings,
+                                  const ShapeSearchSettings& shape, ShapeFit& out) {
+  const auto start = numerics::Clock::now();
+  const double length = knit.stitch_length;
+  // The prior: the registered constants, or the period the mechanics relax the tile to.
+  double aspect0 = 0.0, density = 0.0;
+  if (const auto prior = loop_shape_prior(knit.chart)) {
+    aspect0 = prior->aspect();
+    density = prior->courses_constant * prior->wales_constant;
+    out.prior_source = prior->source;
+  } else {
+    yarn::TileGenerationOptions o;
+    o.geometry.stitch_length = length;
+    o.geometry.yarn_radius = knit.yarn_radius;
+    o.default_ks2 = problem.scales.ks2;
+    const yarn::GeneratedTile relaxed = yarn::generate_knit_tile(knit.chart, o);
+    if (!relaxed.converged) throw std::invalid_argument("the " + knit.chart.name + " tile did not relax: " + relaxed.message);
+    aspect0 = relaxed.course_spacing() / relaxed.wale_spacing();
+    density = length * length / (relaxed.course_spacing() * relaxed.wale_spacing());
+    out.prior_source = knit.chart.name + ": the period its generated tile relaxes to (no registered constants)";
+  }
+  out.prior = aspect0;
+  out.lower = shape.lower * aspect0;
+  out.upper = shape.upper * aspect0;
+
+  YarnFitResult best;
+  double best_g = k_inf;
+  std::optional<db::PeriodicTile> best_tile;
+  const auto objective_of = [](const YarnFitResult& r) { return r.ok ? r.final.value : k_inf; };
+  // One trial: the tile at `aspect` built with contact radius `radius`, fitted (in full the
+  // first time, else locally from the best parameters so far).
+  const auto trial = [&](double aspect, bool full) {
+    const auto t0 = numerics::Clock::now();
+    ShapeTrial t;
+    t.aspect = aspect;
+    t.full_fit = full;
+    // Every trial's loops cross 2R apart (R the knit's yarn radius): only a differs between
+    // them. Each candidate's rest state resolves the contacts at its own R1 from there, and the
+    // period no longer comes from a relaxation at one radius: it is the shape's.
+    t.r1 = knit.yarn_radius;
+    std::string why;
+    const auto tile = shaped_tile(knit, aspect, density, t.r1, problem.scales.ks2, why);
+    if (!tile) {
+      t.objective = k_inf;
+      t.message = "tile: " + why;
+    } else {
+      problem.tile = yarn::make_yarn_tile(*tile);
+      YarnFitSettings s = settings;
+      if (!full) {
+        problem.start = best.params;
+        s.checkpoint.clear();
+        s.resume = false;
+      }
+      YarnFitResult r = fit_yarn(problem, s);
+      problem.start.reset();
+      t.objective = objective_of(r);
+      if (!r.ok) t.message = r.message;
+      if (t.objective < best_g) {
+        best_g = t.objective;
+        best = std::move(r);
+        best_tile = *tile;
+      }
+    }
+    t.seconds = numerics::seconds_since(t0);
+    out.trials.push_back(t);
+    return t.objective;
+  };
+
+  trial(aspect0, true);
+  if (!best.ok) {
+    out.aspect = aspect0;
+    out.seconds = numerics::seconds_since(start);
+    return best;
+  }
+  // Step away from the prior while g falls, first upwards, then (if the first step did not
+  // help) downwards; each step from the best point so far.
+  for (const double direction : {1.0, -1.0}) {
+    double a = aspect0;
+    bool improved_once = false;
+    while (static_cast<int>(out.trials.size()) <= shape.max_trials) {
+      const double next = a * (1.0 + direction * shape.step);
+      if (next > out.upper * (1.0 + 1e-9) || next < out.lower * (1.0 - 1e-9)) break;
+      const double before = best_g;
+      trial(next, false);
+      if (!(best_g < before)) break;
+      improved_once = true;
+      a = next;
+    }
+    if (improved_once) break;  // the other side was worse at the first step
+  }
+  // The parabola through the best trial and its nearest neighbours on each side.
+  std::vector<ShapeTrial> sorted = out.trials;
+  std::sort(sorted.begin(), sorted.end(), [](const ShapeTrial& x, const ShapeTrial& y) { return x.aspect < y.aspect; });
+  const auto at = std::min_element(sorted.begin(), sorted.end(),
+                                   [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
+  out.range_lower = out.range_upper = k_nan;
+  if (at != sorted.begin() && at + 1 != sorted.end() && std::isfinite((at - 1)->objective) &&
+      std::isfinite((at + 1)->objective)) {
+    const Parabola p = parabola((at - 1)->aspect, (at - 1)->objective, at->aspect, at->objective, (at + 1)->aspect,
+                                (at + 1)->objective, at->objective);
+    out.range_lower = p.lower;
+    out.range_upper = p.upper;
+    const bool new_point = std::isfinite(p.vertex) && std::abs(p.vertex / at->aspect - 1.0) > 0.01 &&
+                           p.vertex > (at - 1)->aspect && p.vertex < (at + 1)->aspect;
+    if (new_point && static_cast<int>(out.trials.size()) <= shape.max_trials) trial(p.vertex, false);
+  }
+  const auto winner = std::min_element(out.trials.begin(), out.trials.end(),
+                                       [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
+  out.aspect = winner->aspect;
+  out.wale_spacing = length / std::sqrt(density * out.aspect);
+  out.course_spacing = length * std::sqrt(out.aspect / density);
+  if (best_tile) {
+    out.tile = *best_tile;
+    problem.tile = yarn::make_yarn_tile(*best_tile);
+  }
+  out.seconds = numerics::seconds_since(start);
+  return best;
+}
+
+}  // namespace yarnfit::calibration
