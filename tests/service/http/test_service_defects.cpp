@@ -216,6 +216,7 @@ TEST_F(Gated, SilentConnectionsAreBoundedAndClosedAtTheirDeadline) {
   EXPECT_EQ(over.rfind("HTTP/1.1 503", 0), 0u) << over;
   EXPECT_NE(over.find("the server holds 12 connections"), std::string::npos) << over;
   for (const int s : held_open) ::close(s);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the gate sees them close
   // A head begun and never finished is answered 408 at the deadline.
   const int partial = connect_from(m_port, "127.0.0.13", 5);
   ::send(partial, "GET /healthz HT", 15, MSG_NOSIGNAL);
