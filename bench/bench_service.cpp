@@ -104,6 +104,15 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(i, v.size() - 1)];
 }
 
+// A fresh data folder named `name` beside the temporary files with one user, "bench"; its token.
+fs::path fresh_data(const std::string& name, std::string& token) {
+  const fs::path data = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  fs::remove_all(data);
+  yarnfit::service::Accounts accounts((fs::create_directories(data), data / "accounts.db"));
+  token = accounts.add_user("bench", false).token;
+  return data;
+}
+
 // A connection to 127.0.0.1:port from loopback address `from`; -1 when it fails.
 int connect_from(int port, const std::string& from) {
   const int s = ::socket(AF_INET, SOCK_STREAM, 0);
@@ -145,13 +154,8 @@ void print_row(const char* phase, const char* what, const std::vector<double>& m
 
 // The `starve` scenario (see the top of the file).
 int starve(int pollers, int silent, int seconds) {
-  const fs::path data = fs::temp_directory_path() / ("yarnfit_bench_starve_" + std::to_string(::getpid()));
-  fs::remove_all(data);
   std::string token;
-  {
-    yarnfit::service::Accounts accounts((fs::create_directories(data), data / "accounts.db"));
-    token = accounts.add_user("bench", false).token;
-  }
+  const fs::path data = fresh_data("yarnfit_bench_starve", token);
   yarnfit::service::ServiceOptions o;
   o.port = 0;
   auto service = std::make_unique<yarnfit::service::FittingService>(data, o);
@@ -257,13 +261,8 @@ int main(int argc, char** argv) {
   const int clients = argc > 1 ? std::stoi(argv[1]) : 16;
   const int requests = argc > 2 ? std::stoi(argv[2]) : 2000;
   const int uploads = 20;
-  const fs::path data = fs::temp_directory_path() / ("yarnfit_bench_service_" + std::to_string(::getpid()));
-  fs::remove_all(data);
   std::string token;
-  {
-    yarnfit::service::Accounts accounts((fs::create_directories(data), data / "accounts.db"));
-    token = accounts.add_user("bench", false).token;
-  }
+  const fs::path data = fresh_data("yarnfit_bench_service", token);
   yarnfit::service::ServiceOptions o;
   o.port = 0;
   o.jobs.jobs = 2;

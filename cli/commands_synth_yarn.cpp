@@ -19,6 +19,22 @@ namespace yarnfit::cli {
 
 namespace {
 
+// The tile and the yarn parameters both synth commands simulate from; `ks2` > 0 fills what the
+// parameter file leaves out. Problems go to `problems`.
+std::optional<std::pair<db::PeriodicTile, yarn::YarnParams>> read_tile_and_params(const std::string& pattern,
+                                                                                   const std::string& params_file,
+                                                                                   double ks2,
+                                                                                   std::vector<std::string>& problems) {
+  db::Problems found;
+  const auto tile = db::read_pyp(pattern, found);
+  std::optional<yarn::ParameterScales> scales;
+  if (tile && ks2 > 0.0) scales = yarn::scales_of(*tile, ks2);
+  const auto params = yarn::read_yarn_params(params_file, scales, found);
+  for (const auto& p : found.items()) problems.push_back(p.to_string());
+  if (!tile || !params) return std::nullopt;
+  return std::make_pair(*tile, *params);
+}
+
 struct SynthYarnArgs {
   std::string pattern, params_file, out, id = "synthetic_yarn", family = "synthetic";
   double max_stretch = 0.3;
@@ -43,18 +59,13 @@ int run_synth_yarn(const SynthYarnArgs& a) {
     else o.directions.push_back(*dir);
   }
   if (!(std::isfinite(a.ks2) && a.ks2 >= 0.0)) problems.push_back("--ks2: must be a positive stiffness [N]");
-  db::Problems found;
-  const auto tile = db::read_pyp(a.pattern, found);
-  std::optional<yarn::ParameterScales> scales;
-  if (tile && a.ks2 > 0.0) scales = yarn::scales_of(*tile, a.ks2);
-  const auto params = yarn::read_yarn_params(a.params_file, scales, found);
-  for (const auto& p : found.items()) problems.push_back(p.to_string());
-  if (!problems.empty() || !tile || !params) {
+  const auto input = read_tile_and_params(a.pattern, a.params_file, a.ks2, problems);
+  if (!problems.empty() || !input) {
     for (const auto& p : problems) std::cerr << p << "\n";
     return k_exit_invalid_input;
   }
   return exit_code_of_writing(a.out, [&] {
-    const auto r = calibration::write_synthetic_yarn_fabric(*tile, *params, o, a.out, a.force);
+    const auto r = calibration::write_synthetic_yarn_fabric(input->first, input->second, o, a.out, a.force);
     if (!a.quiet) {
       std::cout << "wrote " << (std::filesystem::path(a.out) / "uniform_targets.csv").string() << " and fabric "
                 << a.id << " in " << (std::filesystem::path(a.out) / "fabric").string() << " ("
@@ -94,18 +105,14 @@ int run_synth_fabric(const SynthFabricArgs& a) {
   o.bending_directions = directions_of(a.bending, "--bending", problems);
   if (const auto model = shell::parse_inplane_model(a.model)) o.model = *model;
   else problems.push_back("--shell-model: " + a.model + ": not a shell model (stiffening or thesis)");
-  db::Problems found;
-  const auto tile = db::read_pyp(a.pattern, found);
-  std::optional<yarn::ParameterScales> scales;
-  if (tile && a.ks2 > 0.0) scales = yarn::scales_of(*tile, a.ks2);
-  const auto params = yarn::read_yarn_params(a.params_file, scales, found);
-  for (const auto& p : found.items()) problems.push_back(p.to_string());
-  if (!problems.empty() || !tile || !params) {
+  if (!(std::isfinite(a.ks2) && a.ks2 >= 0.0)) problems.push_back("--ks2: must be a positive stiffness [N]");
+  const auto input = read_tile_and_params(a.pattern, a.params_file, a.ks2, problems);
+  if (!problems.empty() || !input) {
     for (const auto& p : problems) std::cerr << p << "\n";
     return k_exit_invalid_input;
   }
   return exit_code_of_writing(a.out, [&] {
-    const auto r = pipeline::write_synthetic_fabric(*tile, *params, o, a.out, a.force);
+    const auto r = pipeline::write_synthetic_fabric(input->first, input->second, o, a.out, a.force);
     if (!a.quiet)
       std::cout << "wrote fabric " << a.id << " in " << a.out << " (" << db::format_g(r.seconds, 3)
                 << " s); its law reproduces the yarn model's samples to " << db::format_g(r.law.stress_misfit_pct, 2)

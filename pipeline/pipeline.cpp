@@ -113,10 +113,12 @@ results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::file
     r.range_lower = s.range_lower;
     r.range_upper = s.range_upper;
     r.prior_source = s.prior_source;
+    r.held = s.held;
     r.wale_spacing_mm = 1e3 * s.wale_spacing;
     r.course_spacing_mm = 1e3 * s.course_spacing;
     for (const auto& t : s.trials)
-      r.trials.push_back({t.aspect, std::isfinite(t.objective) ? t.objective : std::nan(""), t.r1, t.full_fit, t.seconds, t.message});
+      r.trials.push_back({t.aspect, t.held, std::isfinite(t.objective) ? t.objective : std::nan(""), t.r1, t.full_fit,
+                          t.seconds, t.message});
     r.seconds = s.seconds;
     f.shape = std::move(r);
   }

@@ -102,7 +102,8 @@ class YarnStage final : public PlanStage {
       if (calibration::shape_is_fitted(state.fabric, state.options.yarn, state.options.shape)) {
         result.shape.emplace();
         result.yarn = calibration::fit_yarn_with_shape(*result.yarn_problem, *state.fabric.pattern->knit,
-                                                       state.options.yarn, state.options.shape, *result.shape);
+                                                       state.fabric.pattern->tile, state.options.yarn, state.options.shape,
+                                                       *result.shape);
         result.fitted_tile = result.shape->tile;
       } else {
         result.yarn = calibration::fit_yarn(*result.yarn_problem, state.options.yarn);

@@ -386,12 +386,14 @@ json to_json(const YarnFitFile& f) {
     json trials = json::array();
     for (const auto& t : sh.trials)
       trials.push_back({{"aspect", t.aspect},
+                        {"held", t.held},
                         {"objective", pct_json(t.objective)},
                         {"r1_m", t.r1_m},
                         {"full_fit", t.full_fit},
                         {"seconds", t.seconds},
                         {"message", t.message}});
     j["shape"] = {{"aspect", sh.aspect},
+                  {"held", sh.held},
                   {"prior", sh.prior},
                   {"prior_source", sh.prior_source},
                   {"bounds", {{"lower", sh.lower}, {"upper", sh.upper}}},
@@ -477,6 +479,7 @@ YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
     expect_object(*shape, w);
     ShapeRecord sh;
     sh.aspect = number(*shape, "aspect", w, k_nan);
+    sh.held = boolean(*shape, "held", w, false);
     sh.prior = number(*shape, "prior", w, k_nan);
     sh.prior_source = string(*shape, "prior_source", w);
     const json& bounds = object_or_empty(*shape, "bounds", w);
@@ -488,7 +491,8 @@ YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
     sh.wale_spacing_mm = number(*shape, "wale_spacing_mm", w, k_nan);
     sh.course_spacing_mm = number(*shape, "course_spacing_mm", w, k_nan);
     for_each_object(*shape, "trials", w, [&sh](const json& x, const Where& wx) {
-      sh.trials.push_back({number(x, "aspect", wx, k_nan), number(x, "objective", wx, k_nan), number(x, "r1_m", wx, k_nan),
+      sh.trials.push_back({number(x, "aspect", wx, k_nan), boolean(x, "held", wx, true), number(x, "objective", wx, k_nan),
+                           number(x, "r1_m", wx, k_nan),
                            boolean(x, "full_fit", wx, false), number(x, "seconds", wx, k_nan), string(x, "message", wx)});
     });
     sh.seconds = number(*shape, "seconds", w, k_nan);

@@ -249,6 +249,7 @@ struct MeasuredCheckRecord {
 // yarn_fit.json's `shape`.
 struct ShapeTrialRecord {
   double aspect = 0.0;
+  bool held = true;        // the period held at the aspect (false: the generated tile's own)
   double objective = 0.0;  // NaN: the trial failed
   double r1_m = 0.0;       // the contact radius its tile was built with
   bool full_fit = false;
@@ -257,6 +258,7 @@ struct ShapeTrialRecord {
 };
 struct ShapeRecord {
   double aspect = 0.0;  // course / wale spacing of the fitted tile's loops
+  bool held = false;    // its period held at that aspect (false: the generated tile's own won)
   double prior = 0.0;
   double lower = 0.0, upper = 0.0;              // the search bounds
   double range_lower = 0.0, range_upper = 0.0;  // where g stays within twice the best (NaN: open)

@@ -75,26 +75,20 @@ bool shape_is_fitted(const db::Fabric& fabric, const YarnFitSettings& yarn, cons
   return shape.enabled && !thesis && fabric.pattern && fabric.pattern->knit && !fabric.pattern->knit->gauge;
 }
 
-YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const YarnFitSettings& settings,
-                                  const ShapeSearchSettings& shape, ShapeFit& out) {
+YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const db::PeriodicTile& generated,
+                                  const YarnFitSettings& settings, const ShapeSearchSettings& shape, ShapeFit& out) {
   const auto start = numerics::Clock::now();
   const double length = knit.stitch_length;
-  // The prior: the registered constants, or the period the mechanics relax the tile to.
-  double aspect0 = 0.0, density = 0.0;
+  const double wales = knit.chart.wales(), courses = knit.chart.courses();
+  // The generated tile's own period, as the mechanics relaxed it.
+  const double relaxed_w = generated.period_x / wales, relaxed_p = generated.period_y / courses;
+  // The prior: the registered constants, or that period.
+  double aspect0 = relaxed_p / relaxed_w, density = length * length / (relaxed_p * relaxed_w);
+  out.prior_source = knit.chart.name + ": the period its generated tile relaxes to (no registered constants)";
   if (const auto prior = loop_shape_prior(knit.chart)) {
     aspect0 = prior->aspect();
     density = prior->courses_constant * prior->wales_constant;
     out.prior_source = prior->source;
-  } else {
-    yarn::TileGenerationOptions o;
-    o.geometry.stitch_length = length;
-    o.geometry.yarn_radius = knit.yarn_radius;
-    o.default_ks2 = problem.scales.ks2;
-    const yarn::GeneratedTile relaxed = yarn::generate_knit_tile(knit.chart, o);
-    if (!relaxed.converged) throw std::invalid_argument("the " + knit.chart.name + " tile did not relax: " + relaxed.message);
-    aspect0 = relaxed.course_spacing() / relaxed.wale_spacing();
-    density = length * length / (relaxed.course_spacing() * relaxed.wale_spacing());
-    out.prior_source = knit.chart.name + ": the period its generated tile relaxes to (no registered constants)";
   }
   out.prior = aspect0;
   out.lower = shape.lower * aspect0;
@@ -104,16 +98,46 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   double best_g = k_inf;
   std::optional<db::PeriodicTile> best_tile;
   const auto objective_of = [](const YarnFitResult& r) { return r.ok ? r.final.value : k_inf; };
-  // One trial: the tile at `aspect` built with contact radius `radius`, fitted (in full the
-  // first time, else locally from the best parameters so far).
-  const auto trial = [&](double aspect, bool full) {
+  const auto keep = [&](ShapeTrial& t, YarnFitResult r, const db::PeriodicTile& tile) {
+    t.objective = objective_of(r);
+    if (!r.ok) t.message = r.message;
+    if (t.objective < best_g) {
+      best_g = t.objective;
+      best = std::move(r);
+      best_tile = tile;
+    }
+  };
+  // Trial 0: the tile as generated, its period the mechanics' and moved by the fit's period
+  // steps, fitted in full: the fit without a shape of its own is always a candidate, so the
+  // search never ends above its g.
+  {
+    const auto t0 = numerics::Clock::now();
+    ShapeTrial t;
+    t.aspect = relaxed_p / relaxed_w;
+    t.full_fit = true;
+    t.held = false;
+    t.r1 = knit.yarn_radius;
+    problem.tile = yarn::make_yarn_tile(generated);
+    keep(t, fit_yarn(problem, settings), generated);
+    t.seconds = numerics::seconds_since(t0);
+    out.trials.push_back(t);
+  }
+  if (!best.ok) {
+    out.aspect = out.trials.front().aspect;
+    out.seconds = numerics::seconds_since(start);
+    return best;
+  }
+  // A held trial: the tile at `aspect` (its loops crossing 2R apart, R the knit's yarn radius:
+  // only a differs between trials; each candidate's rest state resolves the contacts at its own
+  // R1), its period held, fitted locally from the best parameters so far.
+  YarnFitSettings held = settings;
+  held.objective.rest.period_chord_steps = 0;
+  held.checkpoint.clear();
+  held.resume = false;
+  const auto trial = [&](double aspect) {
     const auto t0 = numerics::Clock::now();
     ShapeTrial t;
     t.aspect = aspect;
-    t.full_fit = full;
-    // Every trial's loops cross 2R apart (R the knit's yarn radius): only a differs between
-    // them. Each candidate's rest state resolves the contacts at its own R1 from there, and the
-    // period no longer comes from a relaxation at one radius: it is the shape's.
     t.r1 = knit.yarn_radius;
     std::string why;
     const auto tile = shaped_tile(knit, aspect, density, t.r1, problem.scales.ks2, why);
@@ -122,35 +146,17 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
       t.message = "tile: " + why;
     } else {
       problem.tile = yarn::make_yarn_tile(*tile);
-      YarnFitSettings s = settings;
-      if (!full) {
-        problem.start = best.params;
-        s.checkpoint.clear();
-        s.resume = false;
-      }
-      YarnFitResult r = fit_yarn(problem, s);
+      problem.start = best.params;
+      keep(t, fit_yarn(problem, held), *tile);
       problem.start.reset();
-      t.objective = objective_of(r);
-      if (!r.ok) t.message = r.message;
-      if (t.objective < best_g) {
-        best_g = t.objective;
-        best = std::move(r);
-        best_tile = *tile;
-      }
     }
     t.seconds = numerics::seconds_since(t0);
     out.trials.push_back(t);
     return t.objective;
   };
-
-  trial(aspect0, true);
-  if (!best.ok) {
-    out.aspect = aspect0;
-    out.seconds = numerics::seconds_since(start);
-    return best;
-  }
-  // Step away from the prior while g falls, first upwards, then (if the first step did not
-  // help) downwards; each step from the best point so far.
+  // The held prior, then steps away from it while g falls, first upwards, then (if the first
+  // step did not help) downwards.
+  trial(aspect0);
   for (const double direction : {1.0, -1.0}) {
     double a = aspect0;
     bool improved_once = false;
@@ -158,20 +164,22 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
       const double next = a * (1.0 + direction * shape.step);
       if (next > out.upper * (1.0 + 1e-9) || next < out.lower * (1.0 - 1e-9)) break;
       const double before = best_g;
-      trial(next, false);
+      trial(next);
       if (!(best_g < before)) break;
       improved_once = true;
       a = next;
     }
     if (improved_once) break;  // the other side was worse at the first step
   }
-  // The parabola through the best trial and its nearest neighbours on each side.
-  std::vector<ShapeTrial> sorted = out.trials;
+  // The parabola through the best held trial and its nearest held neighbours.
+  std::vector<ShapeTrial> sorted;
+  for (const auto& t : out.trials)
+    if (t.held) sorted.push_back(t);
   std::sort(sorted.begin(), sorted.end(), [](const ShapeTrial& x, const ShapeTrial& y) { return x.aspect < y.aspect; });
   const auto at = std::min_element(sorted.begin(), sorted.end(),
                                    [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
   out.range_lower = out.range_upper = k_nan;
-  if (at != sorted.begin() && at + 1 != sorted.end() && std::isfinite((at - 1)->objective) &&
+  if (!sorted.empty() && at != sorted.begin() && at + 1 != sorted.end() && std::isfinite((at - 1)->objective) &&
       std::isfinite((at + 1)->objective)) {
     const Parabola p = parabola((at - 1)->aspect, (at - 1)->objective, at->aspect, at->objective, (at + 1)->aspect,
                                 (at + 1)->objective, at->objective);
@@ -179,13 +187,14 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
     out.range_upper = p.upper;
     const bool new_point = std::isfinite(p.vertex) && std::abs(p.vertex / at->aspect - 1.0) > 0.01 &&
                            p.vertex > (at - 1)->aspect && p.vertex < (at + 1)->aspect;
-    if (new_point && static_cast<int>(out.trials.size()) <= shape.max_trials) trial(p.vertex, false);
+    if (new_point && static_cast<int>(out.trials.size()) <= shape.max_trials) trial(p.vertex);
   }
   const auto winner = std::min_element(out.trials.begin(), out.trials.end(),
                                        [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
   out.aspect = winner->aspect;
-  out.wale_spacing = length / std::sqrt(density * out.aspect);
-  out.course_spacing = length * std::sqrt(out.aspect / density);
+  out.held = winner->held;
+  out.wale_spacing = winner->held ? length / std::sqrt(density * out.aspect) : relaxed_w;
+  out.course_spacing = winner->held ? length * std::sqrt(out.aspect / density) : relaxed_p;
   if (best_tile) {
     out.tile = *best_tile;
     problem.tile = yarn::make_yarn_tile(*best_tile);

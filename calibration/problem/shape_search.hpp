@@ -15,14 +15,16 @@
 // machine and put both registered tiles' courses 20–30 % further apart.) Other charts
 // (rib, garter, seed, …) take the period the mechanics relax a generated tile to.
 //
-// Search (a one-dimensional outer search with warm starts): the full yarn fit at the prior;
-// then local-only fits from the best parameters so far at a stepped away from the best while g
-// falls, both ways, within [lower, upper] × the prior; then one step to the vertex of the
-// parabola through the best and its neighbours. The best trial is the result. Its range: where
-// the parabola stays within twice the best g. The tile's period is the shape's, not a
-// relaxation's at one contact radius (the generated tiles' period used to come from a
-// relaxation with R1 = R, and the fit then moved R1 on that period): every candidate's rest
-// state resolves the contacts at its own R1.
+// Search (a one-dimensional outer search with warm starts): first the full yarn fit on the tile
+// as generated (its period the mechanics', moved by the fit's period steps: the fit without a
+// shape of its own, so that the search never ends above its g); then local-only fits from the
+// best parameters so far on tiles held at the prior aspect and at aspects stepped away from the
+// best while g falls, both ways, within [lower, upper] × the prior; then one step to the vertex
+// of the parabola through the best held trial and its neighbours. The best trial is the result.
+// Its range: where that parabola stays within twice the best g. A held tile's period is the
+// shape's, not a relaxation's at one contact radius: every candidate's rest state resolves the
+// contacts at its own R1 (docs/calibration.md: why the held tiles alone did worse on the rib
+// and the seed).
 
 #include <optional>
 #include <string>
@@ -53,6 +55,7 @@ std::optional<LoopShapePrior> loop_shape_prior(const db::KnitChart& chart);
 
 struct ShapeTrial {
   double aspect = 0.0;
+  bool held = true;        // the period held at the aspect (false: the generated tile's own)
   double objective = 0.0;  // g of the fit on that tile (+inf: failed)
   double r1 = 0.0;         // the radius the tile's crossings were built with [m]
   bool full_fit = false;   // the first trial's fit ran the global search
@@ -62,6 +65,7 @@ struct ShapeTrial {
 
 struct ShapeFit {
   double aspect = 0.0, prior = 0.0, lower = 0.0, upper = 0.0;
+  bool held = false;  // the winner is a held tile (false: the generated tile as the mechanics relaxed it)
   std::string prior_source;
   // Where g stays within twice the best's (the parabola through the best trial and its
   // neighbours); NaN on a side the trials leave open.
@@ -76,9 +80,10 @@ struct ShapeFit {
 // shape be fitted (not the thesis's method).
 bool shape_is_fitted(const db::Fabric& fabric, const YarnFitSettings& yarn, const ShapeSearchSettings& shape);
 
-// The yarn fit with the tile's shape fitted (the problem's tile is replaced by each trial's).
-// Throws std::invalid_argument as fit_yarn does; a trial whose tile cannot be made is a failed trial.
-YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const YarnFitSettings& settings,
-                                  const ShapeSearchSettings& shape, ShapeFit& fitted);
+// The yarn fit with the tile's shape fitted (the problem's tile is replaced by each trial's, and
+// by the winner's at the end); `generated` is the knit's tile as generated. Throws
+// std::invalid_argument as fit_yarn does; a trial whose tile cannot be made is a failed trial.
+YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const db::PeriodicTile& generated,
+                                  const YarnFitSettings& settings, const ShapeSearchSettings& shape, ShapeFit& fitted);
 
 }  // namespace yarnfit::calibration

@@ -15,6 +15,19 @@
 namespace yarnfit::calibration {
 namespace {
 
+// Tight solves and a narrow band, so that central differences of the residuals are exact enough.
+ObjectiveOptions tight_options(const testcase::Stockinette& st) {
+  ObjectiveOptions o;
+  o.samples = 3;
+  o.compression_stress_fraction = 1e-8;
+  o.compression.tolerance = 1e-10;
+  o.solve.force_tolerance = 1e-12 * st.scales.ks2;
+  o.solve.stress_tolerance = 0.0;
+  o.solve.loose_tolerance = 1e-300;
+  o.solve.max_iterations = 1000;
+  return o;
+}
+
 TEST(ResidualJacobian, MatchesCentralDifferencesInASmoothCase) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
   const testcase::Stockinette st = testcase::load_stockinette();
@@ -26,15 +39,7 @@ TEST(ResidualJacobian, MatchesCentralDifferencesInASmoothCase) {
   // plateau whose edge is a kink a difference step can cross.
   for (auto& t : targets)
     for (auto& point : t.stretch) point.compression += 2e-3;
-  ObjectiveOptions o;
-  o.samples = 3;
-  o.compression_stress_fraction = 1e-8;
-  o.compression.tolerance = 1e-10;
-  o.solve.force_tolerance = 1e-12 * st.scales.ks2;
-  o.solve.stress_tolerance = 0.0;
-  o.solve.loose_tolerance = 1e-300;
-  o.solve.max_iterations = 1000;
-  const YarnObjective objective(st.yarn_tile(), targets, o);
+  const YarnObjective objective(st.yarn_tile(), targets, tight_options(st));
   // Off the truth, so that the residuals are not zero.
   yarn::YarnParams at = truth;
   at.kb *= 1.3;
@@ -76,14 +81,7 @@ TEST(ResidualJacobian, TheBendingRowsMatchCentralDifferences) {
   for (auto& point : targets[0].stretch) point.compression += 2e-3;
   const double ktheta = 2e-5;  // [N·m]
   for (const double kappa : {0.0, 40.0, 80.0}) targets[0].bending.push_back({kappa, 2.0 * ktheta * kappa});
-  ObjectiveOptions o;
-  o.samples = 3;
-  o.compression_stress_fraction = 1e-8;
-  o.compression.tolerance = 1e-10;
-  o.solve.force_tolerance = 1e-12 * st.scales.ks2;
-  o.solve.stress_tolerance = 0.0;
-  o.solve.loose_tolerance = 1e-300;
-  o.solve.max_iterations = 1000;
+  ObjectiveOptions o = tight_options(st);
   o.bending_samples = 2;
   const YarnObjective objective(st.yarn_tile(), targets, o);
   yarn::YarnParams at = truth;

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/service/raw_connection.hpp"
 #include "tests/service/served_fixture.hpp"
 #include "tests/service/test_archives.hpp"
 
@@ -37,25 +38,8 @@ std::vector<Item> record_items(const std::string& top) {
   return items;
 }
 
-// A raw connection to the server, for what an HTTP client library will not send.
-int connect_to(int port) {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  EXPECT_EQ(::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  timeval tv{15, 0};
-  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  return s;
-}
-
-std::string read_all(int s) {
-  std::string out;
-  char buf[4096];
-  for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-  return out;
-}
+// A raw connection to the server from 127.0.0.1.
+int connect_to(int port) { return connect_from(port); }
 
 class Hostile : public ServedTest {
  protected:

@@ -2,17 +2,13 @@
 // attacker with two ordinary accounts would: each failed on the service before the fix.
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "tests/service/raw_connection.hpp"
 #include "tests/service/served_fixture.hpp"
 #include "tests/service/test_archives.hpp"
 
@@ -46,31 +42,6 @@ void replace(std::string& text, const std::string& from, const std::string& to) 
   const auto at = text.find(from);
   ASSERT_NE(at, std::string::npos) << from;
   text.replace(at, from.size(), to);
-}
-
-// A raw connection to 127.0.0.1:port from the loopback address `from` (127.0.0.x: another
-// client to the server), with a receive timeout.
-int connect_from(int port, const char* from = "127.0.0.1", double timeout_s = 15) {
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in local{};
-  local.sin_family = AF_INET;
-  ::inet_pton(AF_INET, from, &local.sin_addr);
-  EXPECT_EQ(::bind(s, reinterpret_cast<sockaddr*>(&local), sizeof local), 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  EXPECT_EQ(::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  timeval tv{static_cast<time_t>(timeout_s), static_cast<suseconds_t>((timeout_s - static_cast<int>(timeout_s)) * 1e6)};
-  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  return s;
-}
-
-std::string read_all(int s) {
-  std::string out;
-  char buf[4096];
-  for (ssize_t n; (n = ::recv(s, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-  return out;
 }
 
 // GET /healthz over a raw connection from `from`: the answer and how long it took.
