@@ -105,7 +105,7 @@ std::string settings_line(const results::YarnFitSettingsRecord& s) {
 std::string errors_table(const results::YarnFitFile& r) {
   std::ostringstream out;
   out << "  errors (mean abs. error / largest comfort-range target):\n";
-  out << "    direction  stress comfort  stress full  compression  bending (checked, not fitted)\n";
+  out << "    direction  stress comfort  stress full  compression  bending\n";
   for (const auto& c : r.curves) {
     const auto it = r.errors_by_direction.find(c.direction);
     const results::YarnDirectionErrors e =
@@ -117,6 +117,33 @@ std::string errors_table(const results::YarnFitFile& r) {
   if (!r.errors_reason.empty()) out << "  no errors: " << r.errors_reason << "\n";
   if (r.bending_check && !r.bending_check->ok && !r.bending_check->message.empty())
     out << "  bending check failed: " << r.bending_check->message << "\n";
+  return out.str();
+}
+
+// The fitted model against the record's measured curves (yarn_fit.json errors_vs_measured),
+// and the shape the tile was fitted with.
+std::string measured_and_shape(const results::YarnFitFile& r) {
+  std::ostringstream out;
+  if (r.measured) {
+    const results::MeasuredCheckRecord& m = *r.measured;
+    out << "  against the measured curves (the model homogenised to a " << m.law_model << " law, misfit "
+        << pct(m.law_stress_misfit_pct) << " stress, " << pct(m.law_compression_misfit_pct)
+        << " compression; the shell fit's metric):\n";
+    out << "    direction  force     compression  aspect ratio\n";
+    for (const auto& [dir, e] : m.by_direction)
+      out << "    " << std::left << std::setw(9) << dir << std::right << "  " << std::setw(8) << pct(e.stretch_force_pct)
+          << "  " << std::setw(11) << pct(e.compression_pct) << "  " << std::setw(12) << pct(e.bending_pct) << "\n";
+    out << "    " << std::left << std::setw(9) << "all" << std::right << "  " << std::setw(8) << pct(m.all.stretch_force_pct)
+        << "  " << std::setw(11) << pct(m.all.compression_pct) << "  " << std::setw(12) << pct(m.all.bending_pct) << "\n";
+    if (!m.message.empty()) out << "    (" << m.message << ")\n";
+  }
+  if (r.shape) {
+    const results::ShapeRecord& s = *r.shape;
+    out << "  tile shape: course/wale aspect " << std::setprecision(3) << s.aspect << " ("
+        << (s.held ? "held" : "the generated tile's own period") << "; prior " << s.prior << ", " << s.trials.size()
+        << " trials), wales " << 100.0 / s.wale_spacing_mm << " and courses " << 100.0 / s.course_spacing_mm
+        << " per 10 cm\n";
+  }
   return out.str();
 }
 
@@ -179,7 +206,7 @@ std::string search_lines(const results::YarnFitFile& r) {
 std::string yarn_summary(const results::YarnFitFile& r) {
   std::ostringstream out;
   out << "yarn fit: " << (r.ok ? "ok" : "FAILED: " + r.message) << "\n";
-  out << settings_line(r.settings) << errors_table(r) << parameters_table(r);
+  out << settings_line(r.settings) << errors_table(r) << measured_and_shape(r) << parameters_table(r);
   if (r.identifiability) out << profile_summary(*r.identifiability);
   out << "  evaluations: " << r.evaluations << "\n" << search_lines(r);
   return out.str();
