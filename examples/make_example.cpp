@@ -3,77 +3,55 @@
 // interlock_demo), each DB/<id>/fabric.yaml, tile.pyp, stretch_<dir>.csv and, where the record
 // has pear-loop tests, bend_<dir>.csv.
 //
-// The tiles are the project's own synthetic stockinette (fabrics_db/tile/synthetic_stockinette)
-// at each record's yarn radius and spacing.
-// The curves are simulated with the thin-shell model from the parameters written under
-// ground_truth, by the library's synthetic-fabric writer (shell_fit/fit/synthetic_fabric):
-//   * clamped stretch tests on the 10 × 6 cm swatch (the warp test of two records read at
-//     gauge marks), 16 points each, on a mesh refined once from the fit's default
-//     (5 mm cells subdivided to 2.5 mm), so a fit on its default mesh does not meet its own
-//     discretisation;
-//   * pear-loop tests at 7 clamp distances from 3 to 34 mm (the fit's targets) on 2 mm cells
-//     (the bending fit uses 2.5 mm), from k_θ whose bending lengths (about 1.3–2 cm) are those
-//     of light knits; a simulated loop hangs as the shell model makes it, so the aspect ratios
-//     stay above the weightless elastica's, which no k_θ could go below.
-// The parameters are knit-like and of the magnitudes `yarnfit shell fit` finds on the acrylic
-// records (tens to hundreds of N/m; the weft compliant, the warp stiff, a soft shear, lateral
-// contraction shared between kxy and the area terms), chosen inside the fit's search range so
-// that a fit on the example recovers them. Values are written with 6 significant digits: a
-// regeneration on another build reproduces the committed files byte for byte.
+// Every record comes from a known yarn model, through `yarnfit synth fabric`'s path
+// (pipeline/synthetic_fabric.hpp), so the whole pipeline must recover that model:
+//   * the tile is the project's own synthetic stockinette (fabrics_db/tile/synthetic_stockinette)
+//     at the record's yarn radius and spacing;
+//   * the yarn parameters follow one rule from the tile and the yarn's stiffness (below), fixed
+//     before any fit was run on them: a 20x softer toe up to 0.5 % stretch, a bending
+//     stiffness 1/150 of the fit's scale ks2 R_est^2 / 4 (fabric k_theta of a few uN*m, bending
+//     lengths of 1-2 cm: light knits, whose pear loops hang well away from the rigid limit),
+//     a contact radius 0.9 R_est and a contact stiffness twice the fit's scale ks2 / R_est;
+//   * their uniform responses (stretch and bending) are homogenised to a stiffening shell law,
+//     and the record's clamped-stretch (10 x 6 cm, the warp test of two records read at gauge
+//     marks) and pear-loop tests are simulated with that law on meshes finer than the fit's.
+// ground_truth holds the yarn parameters and the homogenised law. Values are written with 6
+// significant digits.
 //
 // Usage: yarnfit_make_example --all examples/fabrics   (regenerates the bundled database)
 //        yarnfit_make_example FOLDER [ID]               (one record)
 
-#include <array>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "fabrics_db/text_util.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "fabrics_db/tile/synthetic_stockinette.hpp"
-#include "shell_fit/fit/synthetic_fabric.hpp"
+#include "pipeline/synthetic_fabric.hpp"
+#include "yarn_fit/model/yarn_params.hpp"
+#include "yarn_fit/scenes/yarn_scene.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 namespace db = yarnfit::db;
-namespace shell = yarnfit::shell;
-using db::format_g;
+namespace yarn = yarnfit::yarn;
+namespace pipeline = yarnfit::pipeline;
 
 constexpr int k_digits = 6;
-constexpr int k_stretch_points = 16;
 
-struct StretchTest {
-  db::Direction direction;
-  double max_stretch;  // about 7 N at the end: beyond the 5 N power range the fit stops at
-  bool gauge;          // read at gauge marks 80 mm along and 40 mm across
-};
-
-// One example record: its shell parameters [N/m, N·m] (the ground truth its curves are
-// simulated from), its tile and its tests.
 struct ExampleFabric {
   const char* id;
   const char* family;
-  const char* header;       // the comment lines that open fabric.yaml
+  const char* header;  // the comment lines that open fabric.yaml
   const char* description;
   double areal_density_gsm;
   int denier, filaments;
-  double stiffness_N;
-  shell::ShellParams truth;
+  double stiffness_N;  // the yarn's: ks2
   db::StockinetteTileOptions tile;
-  std::vector<StretchTest> tests;
-  bool bending;
+  std::vector<db::Direction> stretch, gauged, bending;
 };
-
-shell::ShellParams params(std::array<double, 6> inplane, std::array<double, 3> ktheta) {
-  shell::ShellParams p;
-  p.inplane = {inplane[0], inplane[1], inplane[2], inplane[3], inplane[4], inplane[5]};
-  p.bending.ktheta = {ktheta[0], ktheta[1], ktheta[2]};
-  return p;
-}
 
 db::StockinetteTileOptions tile(double radius, double period_x, double period_y) {
   db::StockinetteTileOptions t;
@@ -83,96 +61,73 @@ db::StockinetteTileOptions tile(double radius, double period_x, double period_y)
   return t;
 }
 
+// The yarn model of an example: one rule for all three (see the header).
+yarn::YarnParams yarn_truth(const db::PeriodicTile& tile, double ks2) {
+  const yarn::ParameterScales s = yarn::scales_of(tile, ks2);
+  yarn::YarnParams p;
+  p.ks2 = ks2;
+  p.ks1 = 0.05 * ks2;
+  p.eps_s = 0.005;
+  p.kb = s.kb_base() / 150.0;
+  p.r1 = 0.9 * s.r_est;
+  p.kc1 = 2.0 * s.kc_base();
+  p.kc2 = s.kc2();
+  p.r2 = s.r2();
+  return p;
+}
+
+using D = db::Direction;
+
 // The bundled database (examples/fabrics): two families, three fabrics. stockinette_demo uses
 // every key of the format; stockinette_light has no bias and no bending tests (so kss is held
-// at its prior and k_θ is not fitted); interlock_demo is a stiffer double knit.
+// at its prior and k_θ is not fitted); interlock_demo is a firmer knit of a thicker yarn.
 const std::vector<ExampleFabric>& examples() {
   static const std::vector<ExampleFabric> list{
       {"stockinette_demo", "single-jersey",
-       "# Example fabric record made by yarnfit itself (examples/make_example.cpp).\n"
-       "# Every key of the format is used; see docs/fabric-records.md for their meaning.\n",
-       "Synthetic stockinette: project-generated tile; stretch and pear-loop curves simulated with the shell model "
-       "from the parameters under ground_truth. Not a measurement.",
-       180, 150, 48, 120, params({60.0, 12.0, 250.0, 20.0, 10.0, 5.0}, {2.0e-6, 2.6e-6, 3.4e-6}),
-       db::StockinetteTileOptions{},
-       {{db::Direction::weft, 0.8, false}, {db::Direction::bias, 0.65, false}, {db::Direction::warp, 0.3, true}},
-       true},
+       "# Example fabric record made by yarnfit itself (examples/make_example.cpp) from the yarn\n"
+       "# model under ground_truth. Every key of the format is used; see docs/fabric-records.md.\n",
+       "Synthetic stockinette: project-generated tile; stretch and pear-loop curves simulated from the yarn model "
+       "under ground_truth (its homogenised shell law). Not a measurement.",
+       180, 150, 48, 120, db::StockinetteTileOptions{}, {D::weft, D::bias, D::warp}, {D::warp}, {D::weft, D::bias, D::warp}},
       {"stockinette_light", "single-jersey",
-       "# Example fabric record made by yarnfit itself (examples/make_example.cpp): a lighter\n"
-       "# single jersey tested along weft and warp only, without pear-loop tests.\n",
+       "# Example fabric record made by yarnfit itself (examples/make_example.cpp) from the yarn\n"
+       "# model under ground_truth: a lighter single jersey tested along weft and warp only, without\n"
+       "# pear-loop tests.\n",
        "Synthetic light stockinette: project-generated tile (finer yarn); weft and warp stretch curves simulated "
-       "with the shell model from the parameters under ground_truth. Not a measurement.",
-       130, 100, 36, 80, params({35.0, 8.0, 160.0, 12.0, 6.0, 3.0}, {1.2e-6, 1.5e-6, 2.0e-6}),
-       tile(0.2e-3, 2.1e-3, 1.1e-3), {{db::Direction::weft, 0.9, false}, {db::Direction::warp, 0.35, false}}, false},
+       "from the yarn model under ground_truth (its homogenised shell law). Not a measurement.",
+       130, 100, 36, 80, tile(0.2e-3, 2.1e-3, 1.1e-3), {D::weft, D::warp}, {}, {}},
       {"interlock_demo", "double-knit",
-       "# Example fabric record made by yarnfit itself (examples/make_example.cpp): a firmer knit\n"
-       "# of a thicker yarn, tested along weft, bias and warp and in the pear loop.\n",
+       "# Example fabric record made by yarnfit itself (examples/make_example.cpp) from the yarn\n"
+       "# model under ground_truth: a firmer knit of a thicker yarn, tested along weft, bias and\n"
+       "# warp and in the pear loop.\n",
        "Synthetic firm knit: project-generated stockinette tile of a thicker yarn; stretch and pear-loop curves "
-       "simulated with the shell model from the parameters under ground_truth. Not a measurement.",
-       240, 200, 64, 160, params({110.0, 25.0, 320.0, 40.0, 18.0, 9.0}, {4.0e-6, 5.0e-6, 6.5e-6}),
-       tile(0.3e-3, 2.7e-3, 1.45e-3),
-       {{db::Direction::weft, 0.55, false}, {db::Direction::bias, 0.45, false}, {db::Direction::warp, 0.25, true}},
-       true},
+       "simulated from the yarn model under ground_truth (its homogenised shell law). Not a measurement.",
+       240, 200, 64, 160, tile(0.3e-3, 2.7e-3, 1.45e-3), {D::weft, D::bias, D::warp}, {D::warp},
+       {D::weft, D::bias, D::warp}},
   };
   return list;
 }
 
-std::string fabric_yaml(const ExampleFabric& f) {
-  const auto& k = f.truth.inplane;
-  const auto& b = f.truth.bending.ktheta;
-  std::ostringstream y;
-  y << f.header << "id: " << f.id << "\nfamily: " << f.family << "\ndescription: \"" << f.description
-    << "\"\nareal_density_gsm: " << format_g(f.areal_density_gsm) << "\nyarns:\n  - material: polyester\n    denier: "
-    << f.denier << "\n    filaments: " << f.filaments << "\n    mass_fraction: 1.0\n    stiffness_N: "
-    << format_g(f.stiffness_N) << "\npattern:\n  file: tile.pyp\n  weft_axis: x\nswatch: {length_mm: 100, width_mm: 60}\n"
-    << "stretch_tests:\n";
-  for (const auto& t : f.tests) {
-    const std::string dir(db::to_string(t.direction));
-    if (t.gauge) y << "  " << dir << ":\n    file: stretch_" << dir << ".csv\n    gauge: {length_mm: 80, width_mm: 40}\n";
-    else y << "  " << dir << ": {file: stretch_" << dir << ".csv}\n";
-  }
-  if (f.bending) {
-    y << "bending_tests:\n";
-    for (const auto& t : f.tests) {
-      const std::string dir(db::to_string(t.direction));
-      y << "  " << dir << ": {file: bend_" << dir << ".csv}\n";
-    }
-  }
-  y << "# The shell parameters the curves were simulated from (N/m; k_theta in N*m).\nground_truth: {"
-    << "kxx: " << format_g(k.kxx) << ", kxy: " << format_g(k.kxy) << ", kyy: " << format_g(k.kyy)
-    << ", kss: " << format_g(k.kss) << ", kn1: " << format_g(k.kn1) << ", kn2: " << format_g(k.kn2)
-    << ", ktheta_weft: " << format_g(b[0]) << ", ktheta_bias: " << format_g(b[1]) << ", ktheta_warp: " << format_g(b[2])
-    << "}\n";
-  return y.str();
-}
-
 void write_example(const ExampleFabric& f, const fs::path& folder) {
-  fs::create_directories(folder);
-  shell::SyntheticShellOptions o;  // 10 × 6 cm swatch, 5 mm cells refined once, pear loop on 2 mm cells
-  o.params = f.truth;
+  const db::PeriodicTile tile = db::make_stockinette_tile(f.tile);
+  pipeline::SyntheticFabricOptions o;
+  o.id = f.id;
+  o.family = f.family;
+  o.header = f.header;
+  o.description = f.description;
+  o.stretch_directions = f.stretch;
+  o.gauged_directions = f.gauged;
+  o.bending_directions = f.bending;
   o.areal_density = f.areal_density_gsm * 1e-3;
-  db::write_text_file_atomically(folder / "fabric.yaml", fabric_yaml(f));
-  db::write_pyp(db::make_stockinette_tile(f.tile), folder / "tile.pyp", 9);
-  for (const auto& t : f.tests) {
-    const std::string dir(db::to_string(t.direction));
-    shell::ClampedStretchSetup setup = shell::synthetic_stretch_setup(o, t.direction);
-    if (t.gauge) {
-      setup.gauge_length = 0.080;
-      setup.gauge_width = 0.040;
-    }
-    db::write_text_file_atomically(
-        folder / ("stretch_" + dir + ".csv"),
-        shell::simulate_stretch_csv(f.truth.inplane, setup, t.max_stretch, k_stretch_points,
-                                    "synthetic " + dir + " stretch test simulated by examples/make_example.cpp",
-                                    k_digits));
-    if (!f.bending) continue;
-    db::write_text_file_atomically(
-        folder / ("bend_" + dir + ".csv"),
-        shell::simulate_bending_csv(f.truth, shell::synthetic_bending_setup(o, t.direction),
-                                    shell::synthetic_clamp_distances(o.bending_points),
-                                    "synthetic " + dir + " pear-loop test simulated by examples/make_example.cpp",
-                                    k_digits));
-  }
+  o.yarn_material = "polyester";
+  o.denier = f.denier;
+  o.filaments = f.filaments;
+  o.digits = k_digits;
+  const auto r = pipeline::write_synthetic_fabric(tile, yarn_truth(tile, f.stiffness_N), o, folder, true);
+  std::cout << f.id << ": the homogenised law reproduces the yarn model's samples to " << r.law.stress_misfit_pct
+            << " % (stress), " << r.law.compression_misfit_pct << " % (compression)";
+  if (!f.bending.empty()) std::cout << ", " << r.law.bending_misfit_pct << " % (bending)";
+  std::cout << "\n";
 }
 
 }  // namespace

@@ -103,6 +103,7 @@ results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::file
   results::YarnFitFile f = calibration::to_file(*result.yarn_problem, *result.yarn, result.yarn_settings);
   if (result.shell) f.targets = targets_file.string();
   f.measured = result.measured;
+  f.tile = result.fitted_tile_record;
   if (result.shape) {
     const calibration::ShapeFit& s = *result.shape;
     results::ShapeRecord r;

@@ -87,6 +87,7 @@ struct PipelineResult {
   // The tile the yarn model was fitted on (the shape's, the generated one, the record's), as
   // the output folder's tile.pyp holds it.
   std::optional<db::PeriodicTile> fitted_tile;
+  std::optional<results::FittedTileRecord> fitted_tile_record;  // yarn_fit.json's `tile` (pipeline/fitted_tile.hpp)
   calibration::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
   Stages stages = Stages::all;
   double seconds_shell = 0.0;  // from the start (the record read) to the shell stage's end

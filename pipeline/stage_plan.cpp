@@ -5,6 +5,7 @@
 
 #include "calibration/problem/generated_pattern.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
+#include "pipeline/fitted_tile.hpp"
 #include "pipeline/measured_check.hpp"
 
 namespace yarnfit::pipeline {
@@ -109,6 +110,9 @@ class YarnStage final : public PlanStage {
         result.yarn = calibration::fit_yarn(*result.yarn_problem, state.options.yarn);
         if (state.fabric.pattern && state.fabric.pattern->has_tile()) result.fitted_tile = state.fabric.pattern->tile;
       }
+      if (result.fitted_tile)
+        result.fitted_tile_record = describe_fitted_tile(state.fabric, *result.fitted_tile, result.shape.has_value(),
+                                                         result.shape && result.shape->held);
       result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
       result.message = result.yarn->ok ? std::string() : "yarn fit failed: " + result.yarn->message;
     } catch (const std::invalid_argument& e) {

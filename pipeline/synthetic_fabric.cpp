@@ -1,5 +1,6 @@
 #include "pipeline/synthetic_fabric.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -19,6 +20,9 @@ namespace fs = std::filesystem;
 using db::format_g;
 
 namespace {
+
+// The gauge marks of a gauged stretch test (the bundled examples' warp tests).
+constexpr double k_gauge_length = 0.080, k_gauge_width = 0.040;
 
 // Δσ_κ(κ) = σ_κ(κ) − σ_κ(0) of the relaxed tile bent about each direction, at `points`
 // curvatures evenly up to κ_max (the yarn fit's bending check reads the same).
@@ -55,13 +59,13 @@ void add_bending_samples(const db::PeriodicTile& tile, const yarn::YarnParams& p
   }
 }
 
-std::string shell_truth(const shell::ShellParams& law, shell::InplaneModel model) {
+std::string shell_truth(const shell::ShellParams& law, shell::InplaneModel model, int digits) {
   const auto v = shell::to_array(law.inplane);
   const int n = model == shell::InplaneModel::stiffening ? shell::k_inplane_param_count : shell::k_first_lockup_param;
   std::string out;
-  for (int k = 0; k < n; ++k) out += std::string(", ") + shell::k_inplane_param_names[k] + ": " + format_g(v[static_cast<std::size_t>(k)], 12);
+  for (int k = 0; k < n; ++k) out += std::string(", ") + shell::k_inplane_param_names[k] + ": " + format_g(v[static_cast<std::size_t>(k)], digits);
   const char* const names[3] = {"ktheta_weft", "ktheta_bias", "ktheta_warp"};
-  for (std::size_t k = 0; k < 3; ++k) out += std::string(", ") + names[k] + ": " + format_g(law.bending.ktheta[k], 12);
+  for (std::size_t k = 0; k < 3; ++k) out += std::string(", ") + names[k] + ": " + format_g(law.bending.ktheta[k], digits);
   return out;
 }
 
@@ -97,24 +101,32 @@ SyntheticFabricResult write_synthetic_fabric(const db::PeriodicTile& tile, const
   std::ostringstream tests, bending;
   for (const db::Direction dir : o.stretch_directions) {
     const std::string name = "stretch_" + std::string(db::to_string(dir)) + ".csv";
-    const std::string csv = shell::simulate_stretch_csv(out.law.params.inplane, shell::synthetic_stretch_setup(so, dir),
-                                                        o.max_stretch, o.test_points,
-                                                        "simulated by yarnfit synth fabric: the yarn model's law", 12);
+    shell::ClampedStretchSetup setup = shell::synthetic_stretch_setup(so, dir);
+    const bool gauged = std::find(o.gauged_directions.begin(), o.gauged_directions.end(), dir) != o.gauged_directions.end();
+    if (gauged) setup.gauge_length = k_gauge_length, setup.gauge_width = k_gauge_width;
+    const std::string csv = shell::simulate_stretch_csv(out.law.params.inplane, setup, o.max_stretch, o.test_points,
+                                                        "simulated by yarnfit synth fabric: the yarn model's law", o.digits);
     db::write_text_file_atomically(folder / name, csv);
-    tests << "  " << db::to_string(dir) << ": {file: " << name << "}\n";
+    if (gauged)
+      tests << "  " << db::to_string(dir) << ":\n    file: " << name << "\n    gauge: {length_mm: " << format_g(1e3 * k_gauge_length)
+            << ", width_mm: " << format_g(1e3 * k_gauge_width) << "}\n";
+    else
+      tests << "  " << db::to_string(dir) << ": {file: " << name << "}\n";
   }
   for (const db::Direction dir : o.bending_directions) {
     const std::string name = "bend_" + std::string(db::to_string(dir)) + ".csv";
     const std::string csv = shell::simulate_bending_csv(out.law.params, shell::synthetic_bending_setup(so, dir),
                                                         shell::synthetic_clamp_distances(so.bending_points),
-                                                        "pear loop simulated by yarnfit synth fabric: the yarn model's law", 12);
+                                                        "pear loop simulated by yarnfit synth fabric: the yarn model's law", o.digits);
     db::write_text_file_atomically(folder / name, csv);
     bending << "  " << db::to_string(dir) << ": {file: " << name << "}\n";
   }
   db::write_pyp(tile, folder / "tile.pyp", 17);
+  const int d = o.digits;
   std::ostringstream yaml;
-  yaml << "# Synthetic fabric written by yarnfit synth fabric: the tests come from the yarn model under\n"
-          "# ground_truth (its uniform responses homogenised to a shell law, whose parameters are there too).\n"
+  yaml << (o.header.empty() ? "# Synthetic fabric written by yarnfit synth fabric: the tests come from the yarn model under\n"
+                              "# ground_truth (its uniform responses homogenised to a shell law, whose parameters are there too).\n"
+                            : o.header)
        << "id: " << o.id << "\nfamily: " << o.family << "\n"
        << "description: \""
        << (o.description.empty() ? "Synthetic: clamped stretch and pear-loop tests simulated from a known yarn model "
@@ -122,17 +134,18 @@ SyntheticFabricResult write_synthetic_fabric(const db::PeriodicTile& tile, const
                                  : o.description)
        << "\"\n";
   if (!o.bending_directions.empty()) yaml << "areal_density_gsm: " << format_g(o.areal_density * 1e3, 10) << "\n";
-  yaml << "yarns:\n  - material: synthetic\n    denier: 100\n    mass_fraction: 1.0\n    stiffness_N: "
-       << format_g(params.ks2, 12) << "\n"
+  yaml << "yarns:\n  - material: " << o.yarn_material << "\n    denier: " << o.denier << "\n";
+  if (o.filaments > 0) yaml << "    filaments: " << o.filaments << "\n";
+  yaml << "    mass_fraction: 1.0\n    stiffness_N: " << format_g(params.ks2, d) << "\n"
        << "pattern: {file: tile.pyp, weft_axis: x}\n"
        << "swatch: {length_mm: " << format_g(so.length * 1e3, 10) << ", width_mm: " << format_g(so.width * 1e3, 10) << "}\n"
        << "stretch_tests:\n"
        << tests.str();
   if (!o.bending_directions.empty()) yaml << "bending_tests:\n" << bending.str();
-  yaml << "ground_truth: {ks1: " << format_g(params.ks1, 12) << ", eps_s: " << format_g(params.eps_s, 12)
-       << ", kb: " << format_g(params.kb, 12) << ", R1: " << format_g(params.r1, 12) << ", kc1: " << format_g(params.kc1, 12)
-       << ", ks2: " << format_g(params.ks2, 12) << ", kc2: " << format_g(params.kc2, 12) << ", R2: " << format_g(params.r2, 12)
-       << shell_truth(out.law.params, o.model) << "}\n";
+  yaml << "ground_truth: {ks1: " << format_g(params.ks1, d) << ", eps_s: " << format_g(params.eps_s, d)
+       << ", kb: " << format_g(params.kb, d) << ", R1: " << format_g(params.r1, d) << ", kc1: " << format_g(params.kc1, d)
+       << ", ks2: " << format_g(params.ks2, d) << ", kc2: " << format_g(params.kc2, d) << ", R2: " << format_g(params.r2, d)
+       << shell_truth(out.law.params, o.model, d) << "}\n";
   db::write_text_file_atomically(folder / "fabric.yaml", yaml.str());
   out.seconds = numerics::seconds_since(start);
   return out;

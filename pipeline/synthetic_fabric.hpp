@@ -36,6 +36,14 @@ struct SyntheticFabricOptions {
   int curvature_points = 5;
   double areal_density = 0.18;   // [kg/m²], for the pear loops
   shell::InplaneModel model = shell::InplaneModel::stiffening;
+  // How fabric.yaml describes the record (the bundled examples name their yarn and read some
+  // tests at gauge marks).
+  std::string header;  // comment lines opening fabric.yaml, each starting "# "; empty: the writer's own
+  std::string yarn_material = "synthetic";
+  int denier = 100;
+  int filaments = 0;  // 0: not stated
+  std::vector<db::Direction> gauged_directions;  // stretch tests read at gauge marks 80 mm along, 40 mm across
+  int digits = 12;  // significant digits of the curves and of ground_truth
 };
 
 struct SyntheticFabricResult {

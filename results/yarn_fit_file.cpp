@@ -405,6 +405,19 @@ json to_json(const YarnFitFile& f) {
                   {"trials", trials},
                   {"seconds", sh.seconds}};
   }
+  if (f.tile) {
+    const FittedTileRecord& t = *f.tile;
+    json tile = {{"source", t.source},
+                 {"period_mm", {{"weft", t.period_weft_mm}, {"warp", t.period_warp_mm}}},
+                 {"yarn_radius_mm", t.yarn_radius_mm},
+                 {"wales", t.wales},
+                 {"courses", t.courses},
+                 {"wales_per_10cm", pct_json(t.wales_per_10cm)},
+                 {"courses_per_10cm", pct_json(t.courses_per_10cm)}};
+    if (t.record_wales_per_10cm && t.record_courses_per_10cm)
+      tile["record_gauge"] = {{"wales_per_10cm", *t.record_wales_per_10cm}, {"courses_per_10cm", *t.record_courses_per_10cm}};
+    j["tile"] = tile;
+  }
   if (f.measured) {
     const MeasuredCheckRecord& m = *f.measured;
     json vs = direction_errors_json(m.by_direction);
@@ -497,6 +510,27 @@ YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
     });
     sh.seconds = number(*shape, "seconds", w, k_nan);
     f.shape = std::move(sh);
+  }
+  if (const json* tile = member(j, "tile")) {
+    const Where w = at / "tile";
+    expect_object(*tile, w);
+    FittedTileRecord ft;
+    ft.source = string(*tile, "source", w);
+    const json& period = object_or_empty(*tile, "period_mm", w);
+    ft.period_weft_mm = number(period, "weft", w / "period_mm", k_nan);
+    ft.period_warp_mm = number(period, "warp", w / "period_mm", k_nan);
+    ft.yarn_radius_mm = number(*tile, "yarn_radius_mm", w, k_nan);
+    ft.wales = static_cast<int>(number(*tile, "wales", w, 0.0));
+    ft.courses = static_cast<int>(number(*tile, "courses", w, 0.0));
+    ft.wales_per_10cm = number(*tile, "wales_per_10cm", w, k_nan);
+    ft.courses_per_10cm = number(*tile, "courses_per_10cm", w, k_nan);
+    if (const json* g = member(*tile, "record_gauge")) {
+      const Where wg = w / "record_gauge";
+      expect_object(*g, wg);
+      ft.record_wales_per_10cm = number(*g, "wales_per_10cm", wg, k_nan);
+      ft.record_courses_per_10cm = number(*g, "courses_per_10cm", wg, k_nan);
+    }
+    f.tile = std::move(ft);
   }
   if (const json* law = member(j, "homogenised_law")) {
     const Where w = at / "homogenised_law";

@@ -268,6 +268,18 @@ struct ShapeRecord {
   double seconds = 0.0;
 };
 
+// The tile the model was fitted on as a knitter reads it (issue 48; pipeline/fitted_tile.hpp):
+// yarn_fit.json's `tile`, the output folder's tile.pyp described.
+struct FittedTileRecord {
+  std::string source;  // file, generated, generated at the record's gauge, shape search
+  double period_weft_mm = 0.0, period_warp_mm = 0.0;
+  double yarn_radius_mm = 0.0;  // as the tile file writes it
+  int wales = 0, courses = 0;   // in one period; 0: not a weft knit (fabrics_db/tile/knit_gauge.hpp)
+  double wales_per_10cm = 0.0, courses_per_10cm = 0.0;  // NaN without a count
+  // The record's knitting_gauge, when it states one.
+  std::optional<double> record_wales_per_10cm, record_courses_per_10cm;
+};
+
 struct YarnFitFile {
   int schema_version = k_yarn_fit_schema_version;  // as read; to_json writes the current one
   std::string fabric;
@@ -294,6 +306,7 @@ struct YarnFitFile {
   std::optional<LocalRecord> local;  // when a local step ran
   std::optional<MeasuredCheckRecord> measured;  // errors_vs_measured, when the check ran
   std::optional<ShapeRecord> shape;             // when the tile's shape was fitted
+  std::optional<FittedTileRecord> tile;         // the tile fitted on (files from before issue 48 have none)
 };
 
 // yarn_fit.json of the current schema version.

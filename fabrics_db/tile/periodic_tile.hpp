@@ -124,4 +124,9 @@ struct TileFacts {
 // edges span so many periods that the contact search would not end in reasonable time.
 TileFacts compute_tile_facts(const PeriodicTile& tile);
 
+// The centreline of one yarn unwrapped across the period boundaries: its first edge's first
+// vertex, then each edge's end with the offsets so far applied, so consecutive points are
+// neighbours in space; the last point is the first moved by the yarn's net offset [m].
+std::vector<std::array<double, 3>> yarn_polyline(const PeriodicTile& tile, const PeriodicYarn& yarn);
+
 }  // namespace yarnfit::db

@@ -258,4 +258,21 @@ TileFacts compute_tile_facts(const PeriodicTile& tile) {
   return facts;
 }
 
+std::vector<std::array<double, 3>> yarn_polyline(const PeriodicTile& tile, const PeriodicYarn& yarn) {
+  std::vector<std::array<double, 3>> points;
+  if (yarn.edges.empty()) return points;
+  points.push_back(tile.positions.at(static_cast<std::size_t>(tile.edges.at(static_cast<std::size_t>(yarn.edges.front())).v0)));
+  int dx = 0, dy = 0;
+  for (const int e : yarn.edges) {
+    const TileEdge& edge = tile.edges.at(static_cast<std::size_t>(e));
+    dx += edge.dx;
+    dy += edge.dy;
+    auto p = tile.positions.at(static_cast<std::size_t>(edge.v1));
+    p[0] += dx * tile.period_x;
+    p[1] += dy * tile.period_y;
+    points.push_back(p);
+  }
+  return points;
+}
+
 }  // namespace yarnfit::db

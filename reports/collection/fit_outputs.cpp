@@ -28,6 +28,11 @@ FabricOutputs read_fit_outputs(const fs::path& folder, std::vector<std::string>&
   const std::size_t problems_before = problems.size();
   f.shell = read_result<results::ShellFitFile>(folder / "shell_fit.json", results::read_shell_fit_file, problems);
   f.yarn = read_result<results::YarnFitFile>(folder / "yarn_fit.json", results::read_yarn_fit_file, problems);
+  if (f.yarn && fs::exists(folder / "tile.pyp")) {
+    db::Problems tile_problems;
+    f.tile = db::read_pyp(folder / "tile.pyp", tile_problems);
+    for (const auto& p : tile_problems.items()) problems.push_back(p.to_string() + " (the tile is not drawn)");
+  }
   std::error_code ec;
   for (fs::recursive_directory_iterator e(folder / "exports", ec), end; !ec && e != end; e.increment(ec))
     if (e->is_regular_file()) f.exports.push_back(e->path());

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fabrics_db/tile/periodic_tile.hpp"
 #include "results/shell_fit_file.hpp"
 #include "results/yarn_fit_file.hpp"
 
@@ -25,6 +26,7 @@ struct FabricOutputs {
   std::optional<results::ShellFitFile> shell;  // shell_fit.json, when there is a readable one
   std::optional<results::YarnFitFile> yarn;    // yarn_fit.json, when there is a readable one
   std::vector<std::filesystem::path> exports;  // the files under exports/ (`--export`), by name
+  std::optional<db::PeriodicTile> tile;  // tile.pyp: the tile the yarn model was fitted on, when readable
 };
 
 struct RunOutputs {

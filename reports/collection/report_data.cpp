@@ -59,6 +59,8 @@ FabricRow fabric_row(const FabricOutputs& f, const std::string& run, int run_ind
   for (std::size_t i = 0; i < k_metrics.size(); ++i) {
     if (f.shell && k_metrics[i].shell_error) r.metrics[i] = f.shell->errors.*k_metrics[i].shell_error;
     if (f.yarn && k_metrics[i].yarn_error) r.metrics[i] = f.yarn->errors.*k_metrics[i].yarn_error;
+    if (f.yarn && f.yarn->measured && k_metrics[i].measured_error)
+      r.metrics[i] = f.yarn->measured->all.*k_metrics[i].measured_error;
   }
   for (std::size_t i = 0; i < k_params.size(); ++i) {
     if (std::string_view(k_params[i].stage) == "shell") {
@@ -115,6 +117,10 @@ MetricStats metric_stats(const std::vector<double>& values) {
 
 bool ReportData::has_yarn() const {
   return std::any_of(fabrics.begin(), fabrics.end(), [](const FabricRow& r) { return r.has_yarn(); });
+}
+
+bool ReportData::has_end_to_end() const {
+  return std::any_of(fabrics.begin(), fabrics.end(), [](const FabricRow& r) { return r.has_end_to_end(); });
 }
 
 bool ReportData::has_bending() const {

@@ -30,12 +30,15 @@ inline constexpr double k_good_fit_pct = 10.0;  // the thesis's "within 10 %" (F
 
 struct MetricInfo {
   const char* key;        // report.json / CSV name
-  const char* stage;      // shell or yarn
+  const char* stage;      // shell, yarn or end-to-end
   const char* label;      // what the page calls it
   double results::ShellErrors::*shell_error = nullptr;  // the figure of the stage's errors
   double results::YarnErrors::*yarn_error = nullptr;
+  // end-to-end: the fitted yarn model against the measured curves (yarn_fit.json's
+  // errors_vs_measured, issue 48), in the shell fit's metric.
+  double results::ShellErrors::*measured_error = nullptr;
 };
-inline constexpr std::array<MetricInfo, 7> k_metrics{{
+inline constexpr std::array<MetricInfo, 10> k_metrics{{
     {"shell_force_pct", "shell", "force", &results::ShellErrors::stretch_force_pct, nullptr},
     {"shell_compression_pct", "shell", "compression", &results::ShellErrors::compression_pct, nullptr},
     {"shell_aspect_ratio_pct", "shell", "aspect ratio", &results::ShellErrors::bending_pct, nullptr},
@@ -43,6 +46,9 @@ inline constexpr std::array<MetricInfo, 7> k_metrics{{
     {"yarn_stress_full_pct", "yarn", "stress, full range", nullptr, &results::YarnErrors::stress_full_pct},
     {"yarn_compression_pct", "yarn", "compression", nullptr, &results::YarnErrors::compression_pct},
     {"yarn_bending_pct", "yarn", "bending", nullptr, &results::YarnErrors::bending_pct},
+    {"end_to_end_force_pct", "end-to-end", "force", nullptr, nullptr, &results::ShellErrors::stretch_force_pct},
+    {"end_to_end_compression_pct", "end-to-end", "compression", nullptr, nullptr, &results::ShellErrors::compression_pct},
+    {"end_to_end_aspect_ratio_pct", "end-to-end", "aspect ratio", nullptr, nullptr, &results::ShellErrors::bending_pct},
 }};
 
 struct ParamInfo {
@@ -104,6 +110,7 @@ struct FabricRow {
   [[nodiscard]] double total_seconds() const { return times.at(time_index("total_s")); }
   [[nodiscard]] bool has_shell() const { return outputs && outputs->shell.has_value(); }
   [[nodiscard]] bool has_yarn() const { return outputs && outputs->yarn.has_value(); }
+  [[nodiscard]] bool has_end_to_end() const { return has_yarn() && outputs->yarn->measured.has_value(); }
   // The figure the run comparison ranks by: the yarn comfort-range stress error when the yarn
   // stage ran, else the shell force error.
   [[nodiscard]] double headline_pct() const;
@@ -146,6 +153,7 @@ struct ReportData {
   std::vector<std::string> problems;
   [[nodiscard]] bool has_yarn() const;
   [[nodiscard]] bool has_bending() const;
+  [[nodiscard]] bool has_end_to_end() const;
 };
 
 // The rows of one fabric's outputs in a run.

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "reports/html/svg_plot.hpp"
+#include "reports/html/tile_drawing.hpp"
 #include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::reports {
@@ -209,7 +210,7 @@ void overview_plots(std::ostringstream& h, const ReportData& d) {
     for (std::size_t i : idx) p.metrics.push_back(k_metrics[i].label);
     std::set<std::string> shown;
     for (const auto& r : d.fabrics)
-      if (std::string_view(stage) == "shell" || r.has_yarn()) {
+      if (std::string_view(stage) == "shell" || (std::string_view(stage) == "yarn" && r.has_yarn()) || r.has_end_to_end()) {
         p.rows.push_back(dot_row(r, idx, colours.at(r.family)));
         shown.insert(r.family);
       }
@@ -220,6 +221,9 @@ void overview_plots(std::ostringstream& h, const ReportData& d) {
   };
   plot("shell", "Shell errors (cf. Fig. 6.13): marker = metric, colour = family", "shell");
   if (d.has_yarn()) plot("yarn", "Yarn errors (cf. Fig. 6.15): marker = metric, colour = family", "yarn");
+  if (d.has_end_to_end())
+    plot("end-to-end", "End to end: the fitted yarn models against the measured curves, marker = metric, colour = family",
+         "end-to-end");
   h << "</div>";
 }
 
@@ -495,6 +499,36 @@ void export_links(std::ostringstream& h, const FabricOutputs& f, const std::file
   h << " <span class=\"meta\">(docs/exports.md)</span></p>";
 }
 
+// "12.3 wales, 15.6 courses per 10 cm" (– for a figure the tile does not have).
+std::string gauge_text(double wales, double courses) {
+  const auto figure = [](double v) { return std::isfinite(v) ? number_label(v) : std::string("–"); };
+  return figure(wales) + " wales, " + figure(courses) + " courses per 10 cm";
+}
+
+// The tile the yarn model was fitted on, drawn from above and from the side, with its gauge
+// beside the record's (issue 48).
+void tile_section(std::ostringstream& h, const FabricRow& r) {
+  if (!r.outputs || !r.outputs->tile || !r.has_yarn()) return;
+  const results::YarnFitFile& y = *r.outputs->yarn;
+  const auto r1 = y.params.find("R1");
+  const double radius = r1 != y.params.end() && r1->second > 0.0 ? r1->second : r.outputs->tile->radius;
+  const TileDrawing d = draw_tile(*r.outputs->tile, radius, anchor(r.id) + "-tile", attrs("fabric-tile", "fabric", r.id));
+  if (d.above.empty()) return;
+  h << "<div class=\"plots tile\">" << d.above << d.side << "</div><p class=\"note\" data-tile-gauge>";
+  if (y.tile) {
+    const results::FittedTileRecord& t = *y.tile;
+    h << "Tile fitted on (" << escape(t.source) << "): " << number_label(t.period_weft_mm) << " × "
+      << number_label(t.period_warp_mm) << " mm";
+    if (t.wales > 0) h << ", " << t.wales << " × " << t.courses << " stitches: " << gauge_text(t.wales_per_10cm, t.courses_per_10cm);
+    else h << " (not a weft knit the count recognises: no gauge)";
+    if (t.record_wales_per_10cm && t.record_courses_per_10cm)
+      h << "; the record states " << gauge_text(*t.record_wales_per_10cm, *t.record_courses_per_10cm);
+    else h << "; the record states no knitting_gauge";
+    h << ". ";
+  }
+  h << "Yarns drawn at the fitted contact radius R1 = " << number_label(1e3 * radius) << " mm.</p>";
+}
+
 void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs, const std::filesystem::path& report_dir) {
   h << "<section class=\"fabric\" id=\"" << anchor(r.id) << "\" data-fabric=\"" << escape(r.id) << "\"><h3>"
     << escape(r.id) << " <span class=\"meta\">family " << escape(family_name(r.family))
@@ -512,14 +546,16 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs,
   svg::DotPlot p;
   p.x_label = "error [%]";
   p.width = 560;
-  for (const char* stage : {"shell", "yarn"}) {
-    const auto idx = metric_indices(stage);
-    if (std::string_view(stage) == "yarn" && !r.has_yarn()) continue;
-    for (std::size_t i : idx) p.metrics.push_back(std::string(stage) + " " + k_metrics[i].label);
+  const auto shown = [&r](std::string_view stage) {
+    return stage == "shell" || (stage == "yarn" && r.has_yarn()) || (stage == "end-to-end" && r.has_end_to_end());
+  };
+  for (const char* stage : {"shell", "yarn", "end-to-end"}) {
+    if (!shown(stage)) continue;
+    for (std::size_t i : metric_indices(stage)) p.metrics.push_back(std::string(stage) + " " + k_metrics[i].label);
   }
   svg::DotRow row{r.id, "", "", {}};
   for (std::size_t i = 0; i < k_metrics.size(); ++i)
-    if (std::string_view(k_metrics[i].stage) == "shell" || r.has_yarn()) row.values.push_back(r.metrics[i]);
+    if (shown(k_metrics[i].stage)) row.values.push_back(r.metrics[i]);
   p.rows.push_back(row);
   p.title = r.outputs && (r.has_shell() || r.has_yarn()) ? "Errors" : "No results: " + r.error;
   p.attributes = attrs("fabric", "fabric", r.id);
@@ -531,6 +567,10 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs,
   // Errors per direction.
   h << "<table><tr><th class=\"l\">direction</th><th>shell force</th><th>shell compression</th>";
   if (r.has_yarn()) h << "<th>yarn stress, comfort</th><th>yarn stress, full</th><th>yarn compression</th><th>yarn bending</th>";
+  // The fitted yarn model against the measured curves (issue 48): homogenised back to a shell
+  // law and run through the record's own tests.
+  if (r.has_end_to_end())
+    h << "<th>end to end: force</th><th>end to end: compression</th><th>end to end: aspect ratio</th>";
   h << "</tr>";
   std::set<std::string> dirs;
   if (r.has_shell())
@@ -551,13 +591,24 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs,
       for (double v : {y.stress_comfort_pct, y.stress_full_pct, y.compression_pct, y.bending_pct.value_or(k_nan)})
         h << pct_cell(v);
     }
+    if (r.has_end_to_end()) {
+      const auto& by_direction = r.outputs->yarn->measured->by_direction;
+      const auto e = by_direction.find(dir);
+      const results::ShellDirectionErrors m =
+          e == by_direction.end() ? results::ShellDirectionErrors{k_nan, k_nan, k_nan} : e->second;
+      h << pct_cell(m.stretch_force_pct) << pct_cell(m.compression_pct) << pct_cell(m.bending_pct);
+    }
     h << "</tr>";
   }
   h << "<tr><td class=\"l\"><b>all</b></td>";
   for (std::size_t i : metric_indices("shell", false)) h << pct_cell(r.metrics[i]);
   if (r.has_yarn())
     for (std::size_t i : metric_indices("yarn")) h << pct_cell(r.metrics[i]);
+  if (r.has_end_to_end())
+    for (std::size_t i : metric_indices("end-to-end")) h << pct_cell(r.metrics[i]);
   h << "</tr></table>";
+  if (r.has_end_to_end() && !r.outputs->yarn->measured->ok)
+    h << "<p class=\"note\">End to end: " << escape(r.outputs->yarn->measured->message) << "</p>";
   const double ar = r.metric("shell_aspect_ratio_pct");
   if (std::isfinite(ar)) h << "<p>Pear-loop aspect-ratio error " << number_label(ar) << " %.</p>";
   h << "<div class=\"plots\">";
@@ -565,6 +616,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs,
   if (r.has_yarn()) yarn_plots(h, r);
   h << "</div>";
   parameter_plot(h, r);
+  tile_section(h, r);
   // Identification notes.
   if (r.has_shell()) {
     identification_note(h, "Not identified", r.outputs->shell->not_identified);

@@ -121,7 +121,7 @@ std::string errors_table(const results::YarnFitFile& r) {
 }
 
 // The fitted model against the record's measured curves (yarn_fit.json errors_vs_measured),
-// and the shape the tile was fitted with.
+// the shape the tile was fitted with, and the tile as a knitter reads it.
 std::string measured_and_shape(const results::YarnFitFile& r) {
   std::ostringstream out;
   if (r.measured) {
@@ -143,6 +143,15 @@ std::string measured_and_shape(const results::YarnFitFile& r) {
         << (s.held ? "held" : "the generated tile's own period") << "; prior " << s.prior << ", " << s.trials.size()
         << " trials), wales " << 100.0 / s.wale_spacing_mm << " and courses " << 100.0 / s.course_spacing_mm
         << " per 10 cm\n";
+  }
+  if (r.tile) {
+    const results::FittedTileRecord& t = *r.tile;
+    out << "  tile: " << t.source << ", " << std::setprecision(4) << t.period_weft_mm << " x " << t.period_warp_mm << " mm";
+    if (t.wales > 0)
+      out << "; " << std::setprecision(3) << t.wales_per_10cm << " wales and " << t.courses_per_10cm << " courses per 10 cm";
+    if (t.record_wales_per_10cm && t.record_courses_per_10cm)
+      out << " (the record: " << *t.record_wales_per_10cm << " and " << *t.record_courses_per_10cm << ")";
+    out << "\n";
   }
   return out.str();
 }

@@ -195,8 +195,19 @@ UniformLawFit fit_law_to_samples(const std::vector<db::DirectionTargets>& sample
                                 [](const db::DirectionTargets& t) { return t.direction == db::Direction::bias && t.stretch.size() >= 2; });
   // The thesis law: eq. 6.1's six (kss held without bias samples), from three splits of the
   // coupling between K and the area terms.
-  std::vector<int> thesis_free{0, 1, 2, 4, 5};
-  if (bias) thesis_free.insert(thesis_free.begin() + 3, 3);
+  // A direction without samples leaves its own stiffness (and lock-up) to the start: a law
+  // fitted to weft samples alone sent kyy where the record's warp-straining clamps failed.
+  const auto sampled = [&samples](db::Direction d) {
+    return std::any_of(samples.begin(), samples.end(),
+                       [d](const db::DirectionTargets& t) { return t.direction == d && t.stretch.size() >= 2; });
+  };
+  const bool weft = sampled(db::Direction::weft), warp = sampled(db::Direction::warp);
+  std::vector<int> thesis_free{1, 4, 5};
+  if (weft) thesis_free.insert(thesis_free.begin(), 0);
+  else out.held.push_back("kxx: no weft samples (held at the start)");
+  if (warp) thesis_free.insert(std::find(thesis_free.begin(), thesis_free.end(), 4), 2);
+  else out.held.push_back("kyy: no warp samples (held at the start)");
+  if (bias) thesis_free.insert(std::find(thesis_free.begin(), thesis_free.end(), 4), 3);
   else out.held.push_back("kss: no bias samples (held at the start)");
   Run best;
   std::vector<Values> starts;
@@ -212,7 +223,8 @@ UniformLawFit fit_law_to_samples(const std::vector<db::DirectionTargets>& sample
     // The lock-up from the thesis fit (growth a tenth of the stiffness it adds to, rate 5, no
     // lateral share) and, when given, from the start as it is; every parameter then free.
     std::vector<int> all = thesis_free;
-    for (const int k : {6, 7, 8, 9, 12, 13}) all.push_back(k);
+    if (weft) all.insert(all.end(), {6, 7, 12});
+    if (warp) all.insert(all.end(), {8, 9, 13});
     if (bias) all.insert(all.end(), {10, 11});
     std::vector<Values> lockup_starts;
     Values from_thesis = best.values;

@@ -11,7 +11,8 @@
 // log space, lock-up rates and shares as they are), residuals (σ_law − σ)/σ_norm and
 // (c_law − c)/c_norm at every sample, the norms the largest |σ| and |c| (≥ 1e-3) of the
 // direction. What the samples cannot determine is held at the start: kss (and the shear
-// lock-up) without bias samples. The stiffening law is fitted from the thesis law's fit, as the
+// lock-up) without bias samples, kxx (and the weft lock-up and share) without weft samples,
+// kyy (and the warp's) without warp samples. The stiffening law is fitted from the thesis law's fit, as the
 // shell stage does. Bending: k_θ of each direction in closed form, Δσ_κ = 2 k_θ κ in the least
 // squares sense.
 

@@ -53,15 +53,15 @@ TEST(Example, ValidatesAndDescribesItsTile) {
   const double ratio = p["r_est_over_radius"].get<double>();
   EXPECT_GT(ratio, 0.5);
   EXPECT_LT(ratio, 3.0);
-  // Plausible for a knit: tens of percent stretch at a few newtons.
+  // Plausible for a light knit: tens of percent stretch at tenths of a newton to a few newtons.
   for (const auto& [dir, t] : j["stretch_tests"].items()) {
     EXPECT_GE(t["stretch"][1].get<double>(), 0.3) << dir;
-    EXPECT_GE(t["force_N"][1].get<double>(), 2.0) << dir;
+    EXPECT_GE(t["force_N"][1].get<double>(), 0.1) << dir;
     EXPECT_LE(t["force_N"][1].get<double>(), 10.0) << dir;
   }
 }
 
-// The curves are the shell model's own at the parameters under ground_truth (so a fit on the
+// The curves are the shell model's own at the homogenised law under ground_truth (so a fit on the
 // example can recover them): `shell sim` with those parameters and the example's swatch
 // reproduces the last point of a stretch curve and of a pear-loop curve to the digits written.
 TEST(Example, CurvesAreTheShellModelAtItsGroundTruth) {

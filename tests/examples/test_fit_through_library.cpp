@@ -32,8 +32,9 @@ TEST(LibraryExample, FitsTheBundledExampleAndPrintsItsErrors) {
   for (const char* d : {"weft", "bias", "warp"})
     EXPECT_NE(out.find(std::string("yarn errors (") + d + "): stress comfort "), std::string::npos) << out;
   EXPECT_NE(out.find("wrote 7 files"), std::string::npos) << out;
-  // The synthetic example is recovered by the shell fit (README: force 0.07 %).
-  EXPECT_LT(std::stod(m[1]), 1.0) << out;
+  // The example's curves come from a yarn model's homogenised law: the shell fit reproduces them
+  // to a few percent (README: force 2.1 %).
+  EXPECT_LT(std::stod(m[1]), 5.0) << out;
   const auto j = nlohmann::json::parse(read_file(dir / "out" / "shell_fit.json"));
   EXPECT_TRUE(j["converged"].get<bool>());
   EXPECT_NEAR(j["errors"]["stretch_force_pct"].get<double>(), std::stod(m[1]), 1e-2 * std::stod(m[1]));

@@ -326,6 +326,59 @@ void expect_edge_cases(const fs::path& report, const json& j) {
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg")) << "no external resource";
 }
 
+// The yarn record's tile drawn from above and from the side with its gauge (issue 48), and its
+// end-to-end errors (the fitted yarn model homogenised back and run through the record's
+// tests). The fixture's yarn fit is a tiny search whose model's law cannot run the record's
+// clamped stretch: the page says why and the figures are empty. A copy whose check succeeded
+// (its figures set here) shows them in report.json, the family table and the fabric's table.
+void expect_tile_and_end_to_end(const fs::path& batches, const fs::path& report, const json& j) {
+  const fs::path folder = batches / "yarns" / "fabrics" / "knit_a";
+  json yarn = json::parse(read_file(folder / "yarn_fit.json"));
+  ASSERT_TRUE(yarn.contains("homogenised_law"));
+  const json& law = yarn.at("homogenised_law");
+  ASSERT_FALSE(law.at("ok").get<bool>());
+  json row = json::object();
+  for (const auto& f : j.at("fabrics"))
+    if (f["id"] == "knit_a") row = f;
+  EXPECT_TRUE(row["metrics"]["end_to_end_force_pct"].is_null()) << row.dump();
+  const std::string html = read_file(report / "index.html");
+  EXPECT_TRUE(contains(html, "End to end: " + law.at("message").get<std::string>().substr(0, 40)));
+  EXPECT_TRUE(contains(html, "<th>end to end: force</th>"));
+  // The tile: both views of knit_a, nothing for the shell-only records.
+  const std::string tile_plot = "data-plot=\"fabric-tile\" data-fabric=\"knit_a\"";
+  const std::size_t first = html.find(tile_plot);
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_NE(html.find(tile_plot, first + 1), std::string::npos) << "from above and from the side";
+  EXPECT_FALSE(contains(html, "data-plot=\"fabric-tile\" data-fabric=\"shell_b\""));
+  const json& t = yarn.at("tile");
+  EXPECT_EQ(t.at("source"), "the record's tile file");
+  // The bundled stockinette tile: one loop of one course per period.
+  EXPECT_EQ(t.at("wales"), 1);
+  EXPECT_EQ(t.at("courses"), 1);
+  EXPECT_NEAR(t.at("wales_per_10cm").get<double>(), 100.0 / t.at("period_mm").at("weft").get<double>(), 1e-9);
+  EXPECT_TRUE(contains(html, "1 × 1 stitches: ")) << "the tile's gauge under its drawing";
+  EXPECT_TRUE(contains(html, "the record states no knitting_gauge"));
+
+  // A check that succeeded, in a copy.
+  ScratchDir dir("report_end_to_end");
+  fs::copy(folder, dir / "knit_a", fs::copy_options::recursive);
+  yarn["homogenised_law"]["ok"] = true;
+  yarn["homogenised_law"]["message"] = "";
+  yarn["errors_vs_measured"] = {{"all", {{"stretch_force_pct", 12.5}, {"compression_pct", 3.25}, {"bending_pct", nullptr}}},
+                                {"weft", {{"stretch_force_pct", 12.5}, {"compression_pct", 3.25}, {"bending_pct", nullptr}}}};
+  write_file(dir / "knit_a" / "yarn_fit.json", yarn.dump());
+  const auto r = run_cli("report " + quoted(dir / "knit_a") + " --out " + quoted(dir / "report") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json copy = json::parse(read_file(dir / "report" / "report.json"));
+  const json& m = copy.at("fabrics").at(0).at("metrics");
+  EXPECT_DOUBLE_EQ(m.at("end_to_end_force_pct").get<double>(), 12.5);
+  EXPECT_DOUBLE_EQ(m.at("end_to_end_compression_pct").get<double>(), 3.25);
+  EXPECT_TRUE(m.at("end_to_end_aspect_ratio_pct").is_null());
+  const std::string page = read_file(dir / "report" / "index.html");
+  EXPECT_TRUE(contains(page, "data-plot=\"overview\" data-stage=\"end-to-end\""));
+  EXPECT_TRUE(contains(page, "<td class=\"l\">end-to-end</td><td class=\"l\">force</td>")) << "the family table";
+}
+
 // One report made once (a fixture runs two batches): its files, its figures against the curves,
 // and the edge cases.
 TEST_F(ReportCli, OverTwoBatchesEqualsTheCurvesAndHandlesTheEdgeCases) {
@@ -341,6 +394,10 @@ TEST_F(ReportCli, OverTwoBatchesEqualsTheCurvesAndHandlesTheEdgeCases) {
   {
     SCOPED_TRACE("edge cases");
     expect_edge_cases(report(), j);
+  }
+  {
+    SCOPED_TRACE("the tile drawn and the end-to-end errors");
+    expect_tile_and_end_to_end(s_dir->path(), report(), j);
   }
 }
 
