@@ -23,6 +23,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,7 @@ struct ExampleFabric {
   double stiffness_N;  // the yarn's: ks2
   db::StockinetteTileOptions tile;
   std::vector<db::Direction> stretch, gauged, bending;
+  double max_stretch = 0.3;
 };
 
 db::StockinetteTileOptions tile(double radius, double period_x, double period_y) {
@@ -95,7 +97,9 @@ const std::vector<ExampleFabric>& examples() {
        "# pear-loop tests.\n",
        "Synthetic light stockinette: project-generated tile (finer yarn); weft and warp stretch curves simulated "
        "from the yarn model under ground_truth (its homogenised shell law). Not a measurement.",
-       130, 100, 36, 80, tile(0.2e-3, 2.1e-3, 1.1e-3), {D::weft, D::warp}, {}, {}},
+       // Its law's clamped stretch finds no equilibrium at 30 % (the shell solver's limit on this
+       // slack law, not the fabric's): tested to 25 %.
+       130, 100, 36, 80, tile(0.2e-3, 2.1e-3, 1.1e-3), {D::weft, D::warp}, {}, {}, 0.25},
       {"interlock_demo", "double-knit",
        "# Example fabric record made by yarnfit itself (examples/make_example.cpp) from the yarn\n"
        "# model under ground_truth: a firmer knit of a thicker yarn, tested along weft, bias and\n"
@@ -108,8 +112,18 @@ const std::vector<ExampleFabric>& examples() {
   return list;
 }
 
+// The tile as the committed tile.pyp holds it (9 significant digits, as before issue 48): the
+// curves must come from the very tile in the record, and an equilibrium on this tile can
+// move by 15 % at 34 % weft stretch when its positions are rounded (docs/calibration.md).
+db::PeriodicTile rounded_tile(const db::StockinetteTileOptions& options) {
+  db::Problems problems;
+  const auto tile = db::parse_pyp(db::format_pyp(db::make_stockinette_tile(options), 9), "tile.pyp", problems);
+  if (!tile) throw std::runtime_error("the example tile does not read back: " + problems.to_string());
+  return *tile;
+}
+
 void write_example(const ExampleFabric& f, const fs::path& folder) {
-  const db::PeriodicTile tile = db::make_stockinette_tile(f.tile);
+  const db::PeriodicTile tile = rounded_tile(f.tile);
   pipeline::SyntheticFabricOptions o;
   o.id = f.id;
   o.family = f.family;
@@ -123,6 +137,7 @@ void write_example(const ExampleFabric& f, const fs::path& folder) {
   o.denier = f.denier;
   o.filaments = f.filaments;
   o.digits = k_digits;
+  o.max_stretch = f.max_stretch;
   const auto r = pipeline::write_synthetic_fabric(tile, yarn_truth(tile, f.stiffness_N), o, folder, true);
   std::cout << f.id << ": the homogenised law reproduces the yarn model's samples to " << r.law.stress_misfit_pct
             << " % (stress), " << r.law.compression_misfit_pct << " % (compression)";

@@ -55,7 +55,7 @@ TEST(Example, ValidatesAndDescribesItsTile) {
   EXPECT_LT(ratio, 3.0);
   // Plausible for a light knit: tens of percent stretch at tenths of a newton to a few newtons.
   for (const auto& [dir, t] : j["stretch_tests"].items()) {
-    EXPECT_GE(t["stretch"][1].get<double>(), 0.3) << dir;
+    EXPECT_GE(t["stretch"][1].get<double>(), 0.25) << dir;
     EXPECT_GE(t["force_N"][1].get<double>(), 0.1) << dir;
     EXPECT_LE(t["force_N"][1].get<double>(), 10.0) << dir;
   }
