@@ -172,6 +172,11 @@ ceres::Solver::Options held_run_options(const AlternationSettings& settings) {
   o.gradient_tolerance = 1e-14;
   o.num_threads = 1;
   o.logging_type = ceres::SILENT;
+  // A round whose start cannot be evaluated (an equilibrium not reached) is the fit's to handle:
+  // it falls back to implicit filtering and its summary says why. Ceres would also log that as an
+  // error on the user's terminal ("Terminating: Residual and Jacobian evaluation failed"), in
+  // the middle of the progress display.
+  FLAGS_minloglevel = std::max(FLAGS_minloglevel, 3);
   return o;
 }
 

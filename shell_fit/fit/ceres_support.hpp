@@ -65,10 +65,11 @@ class ProgressCallback : public ceres::IterationCallback {
   double m_best = std::numeric_limits<double>::infinity();
 };
 
-// Ceres logs a warning for every trial point whose evaluation fails; the fits return false on
-// purpose there (a scene did not reach equilibrium: Ceres shrinks its step), so those lines
-// are noise for the user. Errors are still logged.
-inline void quiet_solver_warnings() { FLAGS_minloglevel = std::max(FLAGS_minloglevel, 2); }
+// Ceres logs a warning for every trial point whose evaluation fails, and an error when a start
+// cannot be evaluated; the fits return false on purpose there (a scene did not reach
+// equilibrium: Ceres shrinks its step, or the fit tries its next start) and report every
+// outcome through Ceres' summary, so those lines are noise on the user's terminal.
+inline void quiet_solver_warnings() { FLAGS_minloglevel = std::max(FLAGS_minloglevel, 3); }
 
 inline ceres::Solver::Options least_squares_options(int max_iterations, double function_tolerance,
                                                     double parameter_tolerance,
