@@ -110,5 +110,51 @@ TEST(YarnFitFile, ABadFieldIsNamedWithItsPath) {
   EXPECT_THROW((void)read_yarn_fit_file(dir / "yarn_fit.json"), std::runtime_error);
 }
 
+
+// yarn_fit.json's `tile` (issue 48): written and read back field for field, a tile without a
+// count or a record gauge as null or absent, and a bad field named with its path.
+TEST(YarnFitFile, TheFittedTileRoundTripsAndABadFieldIsNamed) {
+  YarnFitFile f = yarn_fit_file_from_json(version_1());
+  FittedTileRecord t;
+  t.source = "generated at the record's gauge";
+  t.period_weft_mm = 2.4, t.period_warp_mm = 1.25, t.yarn_radius_mm = 0.25;
+  t.wales = 2, t.courses = 3;
+  t.wales_per_10cm = 83.3, t.courses_per_10cm = 240.0;
+  t.record_wales_per_10cm = 80.0, t.record_courses_per_10cm = 230.0;
+  f.tile = t;
+  const json j = to_json(f);
+  EXPECT_EQ(j.at("tile").at("record_gauge").at("courses_per_10cm"), 230.0);
+  const YarnFitFile back = yarn_fit_file_from_json(j);
+  ASSERT_TRUE(back.tile);
+  EXPECT_EQ(back.tile->source, t.source);
+  EXPECT_EQ(back.tile->wales, 2);
+  EXPECT_EQ(back.tile->courses, 3);
+  EXPECT_EQ(back.tile->period_warp_mm, 1.25);
+  EXPECT_EQ(back.tile->wales_per_10cm, 83.3);
+  EXPECT_EQ(back.tile->record_wales_per_10cm, 80.0);
+  EXPECT_EQ(to_json(back), j);
+  // Not a weft knit, no gauge in the record.
+  f.tile->wales = f.tile->courses = 0;
+  f.tile->wales_per_10cm = f.tile->courses_per_10cm = std::nan("");
+  f.tile->record_wales_per_10cm.reset();
+  f.tile->record_courses_per_10cm.reset();
+  const json k = to_json(f);
+  EXPECT_TRUE(k.at("tile").at("wales_per_10cm").is_null());
+  EXPECT_FALSE(k.at("tile").contains("record_gauge"));
+  const YarnFitFile none = yarn_fit_file_from_json(k);
+  EXPECT_TRUE(std::isnan(none.tile->courses_per_10cm));
+  EXPECT_FALSE(none.tile->record_courses_per_10cm);
+  // Files from before issue 48 have no tile.
+  EXPECT_FALSE(yarn_fit_file_from_json(version_1()).tile);
+  json bad = j;
+  bad["tile"]["period_mm"]["warp"] = "1.25";
+  try {
+    (void)yarn_fit_file_from_json(bad, "out/yarn_fit.json");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("out/yarn_fit.json: tile.period_mm.warp"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace yarnfit::results

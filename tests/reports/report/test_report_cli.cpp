@@ -367,6 +367,7 @@ void expect_tile_and_end_to_end(const fs::path& batches, const fs::path& report,
   yarn["errors_vs_measured"] = {{"all", {{"stretch_force_pct", 12.5}, {"compression_pct", 3.25}, {"bending_pct", nullptr}}},
                                 {"weft", {{"stretch_force_pct", 12.5}, {"compression_pct", 3.25}, {"bending_pct", nullptr}}}};
   write_file(dir / "knit_a" / "yarn_fit.json", yarn.dump());
+  write_file(dir / "knit_a" / "tile.pyp", "*pattern\nnot a tile\n");  // a broken tile is left out, and said
   const auto r = run_cli("report " + quoted(dir / "knit_a") + " --out " + quoted(dir / "report") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json copy = json::parse(read_file(dir / "report" / "report.json"));
@@ -376,6 +377,9 @@ void expect_tile_and_end_to_end(const fs::path& batches, const fs::path& report,
   EXPECT_TRUE(m.at("end_to_end_aspect_ratio_pct").is_null());
   const std::string page = read_file(dir / "report" / "index.html");
   EXPECT_TRUE(contains(page, "data-plot=\"overview\" data-stage=\"end-to-end\""));
+  EXPECT_FALSE(contains(page, "data-plot=\"fabric-tile\""));
+  EXPECT_TRUE(contains(page, "tile.pyp")) << "the broken tile named";
+  EXPECT_TRUE(contains(page, "(the tile is not drawn)"));
   EXPECT_TRUE(contains(page, "<td class=\"l\">end-to-end</td><td class=\"l\">force</td>")) << "the family table";
 }
 
