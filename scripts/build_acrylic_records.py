@@ -61,7 +61,18 @@ README's "Yarn and stitch facts" (the stitch-by-stitch simulations' values):
 (the stitch-by-stitch rib model, rib.py, is a 1x1 rib). With both options the stockinette
 keeps the scaled file and the others get generated tiles.
 
-Usage: build_acrylic_records.py OUT [--shared DIR] [--pattern PYP] [--generated-tiles] [--force]
+With --only KNIT only that knit's record is written. With --example (and --only) the record
+is the bundled example's real knit (SPEC section 6 allows the bundled example one real knit
+converted by the project, attributed in its record): OUT may then be the repository's
+examples/fabrics, the record's description cites the paper, the repository, its commit and
+its MIT licence, and the licence's text goes beside it as LICENSE-stitch-by-stitch.txt.
+README command 1 fits it beside the examples made from known yarn models:
+
+    python3 scripts/build_acrylic_records.py examples/fabrics --only stockinette \
+        --generated-tiles --example --force
+
+Usage: build_acrylic_records.py OUT [--shared DIR] [--pattern PYP] [--generated-tiles]
+       [--only KNIT] [--example] [--force]
 Exit codes: 0 written, 2 bad input or refusal (existing output without --force, output
 inside the source tree, missing data).
 """
@@ -88,6 +99,36 @@ STOCKINETTE_CORE_RADIUS_MM = 0.325
 PYP_SECTIONS = [("pattern", 4, {0, 1, 2}), ("Q", 4, {0, 1, 2}), ("E", 4, set()), ("RL", 1, {0}),
                 ("RK", 2, set()), ("RT", 1, set()), ("RefD1", 3, set()), ("RefT", 1, set())]
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The source of the measurements, cited in every record --example writes.
+SOURCE_COMMIT = "0ed27f35dcf5c3bda874f214bbcab0455055edf0"
+ATTRIBUTION = ("Data: K. Singal, M. S. Dimitriyev, S. E. Gonzalez, S. Quinn, E. A. Matsumoto, "
+               "'Programming mechanics in knitted materials, stitch by stitch', repository "
+               f"github.com/sabetta/stitch-by-stitch (commit {SOURCE_COMMIT[:7]}), MIT licence "
+               "(LICENSE-stitch-by-stitch.txt beside this record); converted by "
+               "scripts/build_acrylic_records.py.")
+# The source repository's licence, which the MIT terms ask to travel with the data.
+MIT_LICENCE = """MIT License
+
+Copyright (c) 2023 sabetta
+
+Permission is hereby granted, free of charge, to any person obtaining a copy
+of this software and associated documentation files (the "Software"), to deal
+in the Software without restriction, including without limitation the rights
+to use, copy, modify, merge, publish, distribute, sublicense, and/or sell
+copies of the Software, and to permit persons to whom the Software is
+furnished to do so, subject to the following conditions:
+
+The above copyright notice and this permission notice shall be included in all
+copies or substantial portions of the Software.
+
+THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+SOFTWARE.
+"""
 
 
 def fail(msg):
@@ -308,14 +349,21 @@ def main():
                          "(stockinette record only)")
     ap.add_argument("--generated-tiles", action="store_true",
                     help="every record names a knit tile for yarnfit to generate (pattern: {knit: ...})")
+    ap.add_argument("--only", choices=KNITS, help="write only this knit's record")
+    ap.add_argument("--example", action="store_true",
+                    help="the bundled example's real knit: attributed, licence beside it; OUT may be "
+                         "the repository's examples/fabrics (needs --only)")
     ap.add_argument("--force", action="store_true", help="replace records written before")
     a = ap.parse_args()
+    if a.example and not a.only:
+        fail("--example writes one record: name it with --only KNIT")
 
     src = os.path.join(a.shared, "data", "measured", "stitch-by-stitch", "acrylic")
     if not os.path.isdir(src):
         fail(f"{src}: no such folder (the acrylic measurements are read from ../shared at run time)")
     out = os.path.abspath(a.out)
-    if os.path.commonpath([out, REPO]) == REPO:
+    examples = os.path.join(REPO, "examples", "fabrics")
+    if os.path.commonpath([out, REPO]) == REPO and not (a.example and out == examples):
         fail(f"{out}: inside the source tree; write the records to a scratch folder outside it")
 
     samples = {(k, ax): read_sample(src, k, ax) for k in KNITS for ax in SAMPLES}
@@ -325,7 +373,7 @@ def main():
     # read and scale the tile before any record is written
     stockinette_tile = scaled_stockinette_tile(a.pattern) if a.pattern else None
 
-    for knit in KNITS:
+    for knit in [a.only] if a.only else KNITS:
         folder = os.path.join(out, f"acrylic_{knit}")
         if os.path.exists(os.path.join(folder, "fabric.yaml")) and not a.force:
             fail(f"{folder}: a record exists already; pass --force to replace it")
@@ -358,6 +406,10 @@ def main():
             description += " " + " ".join(n[0].upper() + n[1:] + "." for n in notes)
         if tile:
             description += " " + pattern_note(tile)
+        if a.example:
+            description += " " + ATTRIBUTION
+            with open(os.path.join(folder, "LICENSE-stitch-by-stitch.txt"), "w", encoding="utf-8") as f:
+                f.write(MIT_LICENCE)
         text = (
             "# Built by scripts/build_acrylic_records.py from "
             "shared/data/measured/stitch-by-stitch/acrylic\n"

@@ -129,11 +129,18 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   }
   // A held trial: the tile at `aspect` (its loops crossing 2R apart, R the knit's yarn radius:
   // only a differs between trials; each candidate's rest state resolves the contacts at its own
-  // R1), its period held, fitted locally from the best parameters so far.
+  // R1), its period held, fitted locally from the best parameters so far and, when the caller
+  // gave one, from its own start too (the better fit counts). Both starts take R1 = R, the
+  // radius the tile's crossings were built with: a larger R1 on a held period leaves contacts
+  // the rest state cannot resolve (no free compression at s = 0), and the local step moves R1
+  // from there. The best parameters so far alone are a poor start when they come from the
+  // generated tile, whose relaxed period pushed them to their bounds: the local step then
+  // stops in another basin at every aspect (tests/calibration/problem/test_shape_search.cpp).
   YarnFitSettings held = settings;
   held.objective.rest.period_chord_steps = 0;
   held.checkpoint.clear();
   held.resume = false;
+  const std::optional<yarn::YarnParams> given_start = problem.start;
   const auto trial = [&](double aspect) {
     const auto t0 = numerics::Clock::now();
     ShapeTrial t;
@@ -146,9 +153,16 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
       t.message = "tile: " + why;
     } else {
       problem.tile = yarn::make_yarn_tile(*tile);
-      problem.start = best.params;
-      keep(t, fit_yarn(problem, held), *tile);
-      problem.start.reset();
+      std::vector<yarn::YarnParams> starts{best.params};
+      if (given_start) starts.push_back(*given_start);
+      std::optional<YarnFitResult> fitted;
+      for (auto from : starts) {
+        from.r1 = t.r1;
+        problem.start = from;
+        YarnFitResult r = fit_yarn(problem, held);
+        if (!fitted || objective_of(r) < objective_of(*fitted)) fitted = std::move(r);
+      }
+      keep(t, std::move(*fitted), *tile);
     }
     t.seconds = numerics::seconds_since(t0);
     out.trials.push_back(t);
@@ -195,6 +209,7 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   out.held = winner->held;
   out.wale_spacing = winner->held ? length / std::sqrt(density * out.aspect) : relaxed_w;
   out.course_spacing = winner->held ? length * std::sqrt(out.aspect / density) : relaxed_p;
+  problem.start = given_start;
   if (best_tile) {
     out.tile = *best_tile;
     problem.tile = yarn::make_yarn_tile(*best_tile);
