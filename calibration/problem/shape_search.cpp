@@ -130,10 +130,12 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   // A held trial: the tile at `aspect` (its loops crossing 2R apart, R the knit's yarn radius:
   // only a differs between trials; each candidate's rest state resolves the contacts at its own
   // R1), its period held, fitted locally from the best parameters so far and, when the caller
-  // gave one, from its own start too (the better fit counts). Both starts take R1 = R, the
-  // radius the tile's crossings were built with: a larger R1 on a held period leaves contacts
-  // the rest state cannot resolve (no free compression at s = 0), and the local step moves R1
-  // from there. The best parameters so far alone are a poor start when they come from the
+  // gave one, from its own start too (the best fit counts). The best parameters are tried at
+  // R1 = R, the radius the tile's crossings were built with, and at their own R1: on a held
+  // period an R1 far from the tile's leaves contacts the rest state cannot resolve (no free
+  // compression at s = 0: R1 50 % above R on a generated stockinette, and the acrylic
+  // stockinette's fitted R1 61 % of R on another), and which side fails depends on the knit.
+  // The local step moves R1 from there. The best parameters so far alone are a poor start when they come from the
   // generated tile, whose relaxed period pushed them to their bounds: the local step then
   // stops in another basin at every aspect (tests/calibration/problem/test_shape_search.cpp).
   YarnFitSettings held = settings;
@@ -153,11 +155,15 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
       t.message = "tile: " + why;
     } else {
       problem.tile = yarn::make_yarn_tile(*tile);
-      std::vector<yarn::YarnParams> starts{best.params};
-      if (given_start) starts.push_back(*given_start);
+      yarn::YarnParams at_tile_radius = best.params;
+      at_tile_radius.r1 = t.r1;
+      std::vector<yarn::YarnParams> starts{at_tile_radius, best.params};
+      if (given_start) {
+        starts.push_back(*given_start);
+        starts.back().r1 = t.r1;
+      }
       std::optional<YarnFitResult> fitted;
-      for (auto from : starts) {
-        from.r1 = t.r1;
+      for (const auto& from : starts) {
         problem.start = from;
         YarnFitResult r = fit_yarn(problem, held);
         if (!fitted || objective_of(r) < objective_of(*fitted)) fitted = std::move(r);
@@ -168,20 +174,22 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
     out.trials.push_back(t);
     return t.objective;
   };
-  // The held prior, then steps away from it while g falls, first upwards, then (if the first
-  // step did not help) downwards.
-  trial(aspect0);
+  // The held prior, then steps away from it while the held trials' g falls (against the
+  // previous held trial, not the generated tile's fit: the held profile is what is searched,
+  // and a held tile that loses to the generated one at the prior may still win further out),
+  // first upwards, then (if the first step did not help) downwards.
+  const double at_prior = trial(aspect0);
   for (const double direction : {1.0, -1.0}) {
-    double a = aspect0;
+    double a = aspect0, previous = at_prior;
     bool improved_once = false;
     while (static_cast<int>(out.trials.size()) <= shape.max_trials) {
       const double next = a * (1.0 + direction * shape.step);
       if (next > out.upper * (1.0 + 1e-9) || next < out.lower * (1.0 - 1e-9)) break;
-      const double before = best_g;
-      trial(next);
-      if (!(best_g < before)) break;
+      const double g = trial(next);
+      if (!(g < previous)) break;
       improved_once = true;
       a = next;
+      previous = g;
     }
     if (improved_once) break;  // the other side was worse at the first step
   }

@@ -67,6 +67,7 @@ TEST(ShapeSearch, AGeneratedFabricsKnownAspectIsRecovered) {
   problem->start = truth;
   YarnFitSettings settings;
   apply_budget(Budget::quick, settings);
+  settings.local_samples = 5;  // the targets have 7 points per direction
   ShapeFit shape;
   const YarnFitResult fit =
       fit_yarn_with_shape(*problem, knit, fabric.pattern->tile, settings, ShapeSearchSettings{}, shape);
