@@ -131,7 +131,8 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   // only a differs between trials; each candidate's rest state resolves the contacts at its own
   // R1), its period held, fitted locally from the best parameters so far and, when the caller
   // gave one, from its own start too (the best fit counts). The best parameters are tried at
-  // R1 = R, the radius the tile's crossings were built with, and at their own R1: on a held
+  // R1 = R, the radius the tile's crossings were built with, and where that fails at their
+  // own R1: on a held
   // period an R1 far from the tile's leaves contacts the rest state cannot resolve (no free
   // compression at s = 0: R1 50 % above R on a generated stockinette, and the acrylic
   // stockinette's fitted R1 61 % of R on another), and which side fails depends on the knit.
@@ -155,18 +156,20 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
       t.message = "tile: " + why;
     } else {
       problem.tile = yarn::make_yarn_tile(*tile);
-      yarn::YarnParams at_tile_radius = best.params;
-      at_tile_radius.r1 = t.r1;
-      std::vector<yarn::YarnParams> starts{at_tile_radius, best.params};
-      if (given_start) {
-        starts.push_back(*given_start);
-        starts.back().r1 = t.r1;
-      }
       std::optional<YarnFitResult> fitted;
-      for (const auto& from : starts) {
+      const auto fit_from = [&](yarn::YarnParams from) {
         problem.start = from;
         YarnFitResult r = fit_yarn(problem, held);
         if (!fitted || objective_of(r) < objective_of(*fitted)) fitted = std::move(r);
+      };
+      yarn::YarnParams at_tile_radius = best.params;
+      at_tile_radius.r1 = t.r1;
+      fit_from(at_tile_radius);
+      if (!fitted->ok && best.params.r1 != t.r1) fit_from(best.params);
+      if (given_start) {
+        yarn::YarnParams from = *given_start;
+        from.r1 = t.r1;
+        fit_from(from);
       }
       keep(t, std::move(*fitted), *tile);
     }
@@ -183,8 +186,9 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
     double a = aspect0, previous = at_prior;
     bool improved_once = false;
     while (static_cast<int>(out.trials.size()) <= shape.max_trials) {
-      const double next = a * (1.0 + direction * shape.step);
-      if (next > out.upper * (1.0 + 1e-9) || next < out.lower * (1.0 - 1e-9)) break;
+      // A step past a bound stops at the bound, so that a minimum near it is still bracketed.
+      const double next = std::clamp(a * (1.0 + direction * shape.step), out.lower, out.upper);
+      if (std::abs(next / a - 1.0) < 1e-9) break;  // at the bound already
       const double g = trial(next);
       if (!(g < previous)) break;
       improved_once = true;

@@ -18,11 +18,11 @@
 // Search (a one-dimensional outer search with warm starts): first the full yarn fit on the tile
 // as generated (its period the mechanics', moved by the fit's period steps: the fit without a
 // shape of its own, so that the search never ends above its g); then local-only fits from the
-// best parameters so far (at the held tile's radius and at their own R1; and from the caller's
-// start, when it gave one) on tiles held at the prior aspect and at aspects stepped away from it
-// while the held trials' g falls, both ways, within [lower, upper] × the prior; then one step to
-// the vertex of the parabola through the best held trial and its neighbours. The best trial is
-// the result.
+// best parameters so far (at the held tile's radius, or at their own R1 where that fails; and
+// from the caller's start, when it gave one) on tiles held at the prior aspect and at aspects
+// stepped away from it while the held trials' g falls, both ways, within [lower, upper] × the
+// prior; then one step to the vertex of the parabola through the best held trial and its
+// neighbours. The best trial is the result.
 // Its range: where that parabola stays within twice the best g. A held tile's period is the
 // shape's, not a relaxation's at one contact radius: every candidate's rest state resolves the
 // contacts at its own R1 (docs/calibration.md: why the held tiles alone did worse on the rib
