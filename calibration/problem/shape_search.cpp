@@ -131,14 +131,14 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   // only a differs between trials; each candidate's rest state resolves the contacts at its own
   // R1), its period held, fitted locally from the best parameters so far and, when the caller
   // gave one, from its own start too (the best fit counts). The best parameters are tried at
-  // R1 = R, the radius the tile's crossings were built with, and where that fails at their
-  // own R1: on a held
-  // period an R1 far from the tile's leaves contacts the rest state cannot resolve (no free
-  // compression at s = 0: R1 50 % above R on a generated stockinette, and the acrylic
-  // stockinette's fitted R1 61 % of R on another), and which side fails depends on the knit.
-  // The local step moves R1 from there. The best parameters so far alone are a poor start when they come from the
-  // generated tile, whose relaxed period pushed them to their bounds: the local step then
-  // stops in another basin at every aspect (tests/calibration/problem/test_shape_search.cpp).
+  // R1 = R, the radius the tile's crossings were built with, and where that fails at their own
+  // R1: on a held period an R1 far from the tile's leaves contacts the rest state cannot
+  // resolve (no free compression at s = 0: R1 50 % above R on a generated stockinette, the
+  // acrylic stockinette's fitted R1 at 61 % of R on the other side), and which side fails
+  // depends on the knit. The local step moves R1 from there. The best parameters so far alone
+  // are a poor start when they come from the generated tile, whose relaxed period pushed them
+  // to their bounds: the local step then stops in another basin at every aspect
+  // (docs/calibration.md, "The tile's shape").
   YarnFitSettings held = settings;
   held.objective.rest.period_chord_steps = 0;
   held.checkpoint.clear();
