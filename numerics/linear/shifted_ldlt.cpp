@@ -42,22 +42,38 @@ bool ShiftedLdlt::same_triplet_sequence(const Triplets& lower) const {
 }
 
 void ShiftedLdlt::remember_triplet_slots(const Triplets& lower) {
+  // Column by column rather than a binary search per triplet: the triplets are grouped by
+  // column (a stable counting sort, so each slot's triplets keep their order), each column's
+  // stored rows are marked with their slots once, and every triplet reads its slot from the
+  // mark. Linear in triplets and entries; a contact entering or leaving calls this again.
   const std::size_t count = lower.size();
   m_triplet_rows.resize(count);
   m_triplet_cols.resize(count);
   m_triplet_slot.resize(count);
-  std::vector<char> seen(static_cast<std::size_t>(m_matrix.nonZeros()), 0);
   const int* outer = m_matrix.outerIndexPtr();
   const int* inner = m_matrix.innerIndexPtr();
+  std::vector<int> start(static_cast<std::size_t>(m_n) + 1, 0);
   for (std::size_t k = 0; k < count; ++k) {
-    const int r = lower[k].row(), c = lower[k].col();
-    m_triplet_rows[k] = r;
-    m_triplet_cols[k] = c;
-    const int* at = std::lower_bound(inner + outer[c], inner + outer[c + 1], r);
-    const int slot = static_cast<int>(at - inner);
-    // Encoded as −slot − 1 for the slot's first triplet (assigned), slot for the others (added).
-    m_triplet_slot[k] = seen[static_cast<std::size_t>(slot)] ? slot : -slot - 1;
-    seen[static_cast<std::size_t>(slot)] = 1;
+    m_triplet_rows[k] = lower[k].row();
+    m_triplet_cols[k] = lower[k].col();
+    ++start[static_cast<std::size_t>(m_triplet_cols[k]) + 1];
+  }
+  for (int c = 0; c < m_n; ++c) start[static_cast<std::size_t>(c) + 1] += start[static_cast<std::size_t>(c)];
+  std::vector<int> by_column(count);
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (std::size_t k = 0; k < count; ++k)
+    by_column[static_cast<std::size_t>(next[static_cast<std::size_t>(m_triplet_cols[k])]++)] = static_cast<int>(k);
+  std::vector<int> slot_of_row(static_cast<std::size_t>(m_n), -1);
+  std::vector<char> seen(static_cast<std::size_t>(m_matrix.nonZeros()), 0);
+  for (int c = 0; c < m_n; ++c) {
+    for (int p = outer[c]; p < outer[c + 1]; ++p) slot_of_row[static_cast<std::size_t>(inner[p])] = p;
+    for (int q = start[static_cast<std::size_t>(c)]; q < start[static_cast<std::size_t>(c) + 1]; ++q) {
+      const auto k = static_cast<std::size_t>(by_column[static_cast<std::size_t>(q)]);
+      const int slot = slot_of_row[static_cast<std::size_t>(m_triplet_rows[k])];
+      // Encoded as −slot − 1 for the slot's first triplet (assigned), slot for the others (added).
+      m_triplet_slot[k] = seen[static_cast<std::size_t>(slot)] ? slot : -slot - 1;
+      seen[static_cast<std::size_t>(slot)] = 1;
+    }
   }
 }
 

@@ -92,6 +92,13 @@ EdgeAnchor carried_anchor(const EdgeAnchor& anchor, const Eigen::Matrix3d& rotat
 double bending_element(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
                        double rest_length_b, const CornerFrames& frames, const Eigen::Vector2d& rest_curvature,
                        const RodBending& model, Vec<9>* gradient, Mat<9>* hessian, bool project_psd);
+// The same element's value, gradient and (unprojected) Hessian by a jet of jets, the
+// implementation bending_element used before its SecondOrder numbers: the reference its
+// Hessian is tested against (tests/yarn_fit/energies/test_second_order.cpp).
+double bending_element_by_nested_jets(const Vec3& x0, const Vec3& x1, const Vec3& x2, double rest_length_a,
+                                      double rest_length_b, const CornerFrames& frames,
+                                      const Eigen::Vector2d& rest_curvature, const RodBending& model,
+                                      Vec<9>& gradient, Mat<9>& hessian);
 
 // The curvature vector κ of the corner x0-x1-x2 in its material frames (the rest-shape
 // heuristic resets κ̄ to it); +inf components where bending_element is +inf.

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "yarn_fit/homogenise/sensitivity.hpp"
 
 namespace yarnfit::yarn {
 
@@ -17,6 +18,19 @@ std::vector<double> even_stretches(double max_stretch, int points) {
   return s;
 }
 
+bool predict_equilibrium(YarnSystem& system, const CoarseDeformation& from, const CoarseDeformation& to,
+                         Eigen::VectorXd& g) {
+  system.set_deformation(from);
+  const EquilibriumSensitivity sens = equilibrium_sensitivity(system, g, {});
+  if (!sens.ok) return false;
+  const Eigen::Vector4d step = (to.stretch - from.stretch) * stretch_weights(from) +
+                               (to.compression - from.compression) * compression_weights(from);
+  const Eigen::VectorXd moved = g + sens.state_tangent * step;
+  if (!moved.allFinite()) return false;
+  g = moved;
+  return true;
+}
+
 StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<double>& stretches,
                            Eigen::VectorXd& g, const StretchSweepOptions& options) {
   const auto start = numerics::Clock::now();
@@ -27,6 +41,7 @@ StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<d
   if (compression.band_stress == 0.0) compression.band_stress = default_stress_tolerance(system);
   for (std::size_t i = 0; i < stretches.size(); ++i) {
     const CoarseDeformation chi{stretches[i], compression.initial_guess, 0.0, angle};
+    if (options.predictor && i > 0 && out.points.back().ok) predict_equilibrium(system, out.points.back().chi, chi, g);
     Sample s = solve_free_compression(system, chi, g, compression, options.solve);
     if (s.ok) {
       // The next c* is near this one: bracket it with about twice the last change.
