@@ -51,7 +51,8 @@ for fabric in sorted(os.listdir(os.path.join(out, "fabrics"))):
     shown = json.loads(subprocess.run([yarnfit, "db", "show", os.path.join(db, fabric), "--json"],
                                       capture_output=True, text=True, check=True).stdout)
     truth = shown.get("ground_truth") or {}
-    shell = json.load(open(os.path.join(out, "fabrics", fabric, "shell_fit.json")))["errors"]
+    shell_fit = json.load(open(os.path.join(out, "fabrics", fabric, "shell_fit.json")))
+    shell, tested = shell_fit["errors"], [d for d in ("weft", "bias", "warp") if d in shell_fit["errors_by_direction"]]
     bending = f"{shell['bending_pct']:.2f} %" if shell.get("bending_pct") is not None else "no pear-loop tests"
     print(f"\n{fabric}: shell errors (mean |error| / mean |measured|): force {shell['stretch_force_pct']:.2f} %, "
           f"compression {shell['compression_pct']:.2f} %, pear-loop aspect ratio {bending}")
@@ -73,12 +74,23 @@ for fabric in sorted(os.listdir(os.path.join(out, "fabrics"))):
         bend = f", bending {e['bending_pct']:.1f} %" if e.get("bending_pct") is not None else ""
         print(f"    against the uniform targets: stress comfort range {e['stress_comfort_pct']:.1f} %, "
               f"compression {e['compression_pct']:.1f} %{bend}")
-        m = (y.get("errors_vs_measured") or {}).get("all")
-        if m:
-            parts = [f"force {m['stretch_force_pct']:.1f} %", f"compression {m['compression_pct']:.1f} %"]
-            if m.get("bending_pct") is not None:
-                parts.append(f"pear-loop aspect ratio {m['bending_pct']:.1f} %")
-            print("    end to end, against the record's curves: " + ", ".join(parts))
+        measured = y.get("errors_vs_measured") or {}
+
+        def figures(m):
+            names = (("stretch_force_pct", "force"), ("compression_pct", "compression"),
+                     ("bending_pct", "pear-loop aspect ratio"))
+            return ", ".join(f"{label} {m[key]:.1f} %" for key, label in names if m.get(key) is not None)
+
+        if (measured.get("all") or {}).get("stretch_force_pct") is not None:
+            print("    end to end, against the record's curves: " + figures(measured["all"]))
+        elif measured:
+            # A direction whose test the fitted model could not simulate has no figure (why: summary.txt).
+            shown = [f"{d} {figures(measured[d])}" for d in tested if figures(measured.get(d) or {})]
+            missing = [d for d in tested if not figures(measured.get(d) or {})]
+            text = "; ".join(shown) if shown else "no direction"
+            if missing:
+                text += f" (not simulated: {', '.join(missing)}; why in summary.txt)"
+            print("    end to end, against the record's curves: " + text)
 print(f"\nper fabric: {out}/fabrics/<id>/ (shell_fit.json, uniform_targets.csv, yarn_fit.json, summary.txt, tile.pyp, ...)")
 print(f"ledger:     {out}/batch.db (sqlite3; schema in docs/batch.md)")
 print(f"report:     open {os.path.abspath(os.path.join(top, 'report', 'index.html'))} in a browser "

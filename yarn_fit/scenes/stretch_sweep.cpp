@@ -21,6 +21,7 @@ std::vector<double> even_stretches(double max_stretch, int points) {
 bool predict_equilibrium(YarnSystem& system, const CoarseDeformation& from, const CoarseDeformation& to,
                          Eigen::VectorXd& g) {
   system.set_deformation(from);
+  system.rebuild_contacts(g);  // the last solve may have ended its list at another compression
   const EquilibriumSensitivity sens = equilibrium_sensitivity(system, g, {});
   if (!sens.ok) return false;
   const Eigen::Vector4d step = (to.stretch - from.stretch) * stretch_weights(from) +
@@ -41,8 +42,22 @@ StretchSweep sweep_stretch(YarnSystem& system, double angle, const std::vector<d
   if (compression.band_stress == 0.0) compression.band_stress = default_stress_tolerance(system);
   for (std::size_t i = 0; i < stretches.size(); ++i) {
     const CoarseDeformation chi{stretches[i], compression.initial_guess, 0.0, angle};
-    if (options.predictor && i > 0 && out.points.back().ok) predict_equilibrium(system, out.points.back().chi, chi, g);
+    const bool predicted = options.predictor && i > 0 && out.points.back().ok;
+    Eigen::VectorXd last;
+    if (predicted) {
+      last = g;
+      predict_equilibrium(system, out.points.back().chi, chi, g);
+    }
     Sample s = solve_free_compression(system, chi, g, compression, options.solve);
+    if (!s.ok && predicted) {
+      // The predicted start failed (it may cross a contact barrier, where the energy is
+      // infinite): the point again from the last equilibrium, as without the predictor.
+      const int iterations = s.newton_iterations, solves = s.solves;
+      g = last;
+      s = solve_free_compression(system, chi, g, compression, options.solve);
+      s.newton_iterations += iterations;
+      s.solves += solves;
+    }
     if (s.ok) {
       // The next c* is near this one: bracket it with about twice the last change.
       if (i > 0 && out.points.back().ok)

@@ -21,8 +21,9 @@ struct StretchSweepOptions {
   CompressionOptions compression;
   EquilibriumOptions solve;
   // Each point after a converged one starts from the last state moved along the equilibrium's
-  // own tangent dg*/dF to the new stretch and guessed compression (a first-order predictor;
-  // docs/yarn-solve.md has what it saves); false: from the last state as it is.
+  // own tangent dg*/ds to the new stretch at the last c* (a first-order predictor;
+  // docs/yarn-solve.md has what it saves); a point that fails from there is solved again
+  // from the last state. false: from the last state as it is.
   bool predictor = true;
   // Called after each point with its index, its sample and the state it ended in (the
   // point's equilibrium at sample.chi when sample.ok, else the warm start the next point
