@@ -63,7 +63,8 @@ nlohmann::json fit_options_json(const pipeline::PipelineOptions& o) {
                  y.staged.rescored, y.staged.distinct, y.staged.starts}},
                {"alternation",
                 {y.alternation.max_rounds, y.alternation.iterations_per_round, y.alternation.initial_radius,
-                 y.alternation.secant_move, y.alternation.move_tolerance, y.alternation.failures_before_fallback}},
+                 y.alternation.secant_move, y.alternation.move_tolerance, y.alternation.failures_before_fallback,
+                 y.alternation.rest_difference_step}},
                {"band_correction", y.objective.root_correction}};
   return j;
 }

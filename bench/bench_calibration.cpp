@@ -1,5 +1,8 @@
 // Yarn-level calibration studies (issue 5, acceptance 2, 3 and 5), printed, not asserted:
 //   profile    the local step's objective at the true parameters and with each one 10 % off
+//   cost       where one evaluation of the local step's objective spends its time
+//   line       g along the line from 10 % off the truth to the truth, own and held rest state
+//   goals      the default fit of each --cases tile:truth (truth KS1/EPS_S[/KC1] for --truth's KS1,EPS_S[,KC1])
 //   recovery   the profile, then targets simulated from known parameters on a tile of ../shared
 //              (stockinette unless --tile says another),
 //              fitted back: true vs fitted parameters, errors, time per stage
@@ -133,9 +136,10 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
   if (r.local.ran) std::printf("    local: %s\n", r.local.report.c_str());
   for (const auto& round : r.local.alternation.rounds)
     std::printf("      round %d: g %.4g -> %.4g held, %.4g on its own rest state (%s), move %.3g, %d iterations, %d "
-                "evaluations, %.0f s (%s)\n",
+                "evaluations, %.0f s (%s)%s\n",
                 round.round, round.g_start, round.g_end, round.g_true, round.accepted ? "accepted" : "rejected",
-                round.move, round.iterations, round.evaluations, round.seconds, round.termination.c_str());
+                round.move, round.iterations, round.evaluations, round.seconds, round.termination.c_str(),
+                round.rest_derivative_measured ? "; rest state's derivative measured" : "");
   if (!r.on_bound.empty()) {
     std::printf("    on a bound:");
     for (const auto& n : r.on_bound) std::printf(" %s", n.c_str());
@@ -174,7 +178,8 @@ void print_fit(const char* label, const Problem& p, const calibration::YarnFitRe
 // speed work must keep (ks1, ε̄s, kb, kc1 within 10 %, R1 within 1 % of the truth, the mean
 // comfort-range stress error ≤ 0.5 %).
 // One recovery's figures against issue 33's bar: ks1, ε̄s, kb, kc1 within 5 %, R1 within 1 %,
-// comfort-range stress error ≤ 0.5 %; and the time against 300 s (moonshot 120 s).
+// comfort-range stress error ≤ 0.5 % (and issue 49's for woven tiles: 10 %, 2 %, 1 %); and the
+// time against 300 s (moonshot 120 s).
 struct RecoveryRow {
   std::string label;
   bool ok = false;
@@ -182,6 +187,8 @@ struct RecoveryRow {
   double comfort = 0, g = 0, seconds = 0;
   [[nodiscard]] double worst() const { return std::max({std::abs(ks1), std::abs(eps_s), std::abs(kb), std::abs(kc1)}); }
   [[nodiscard]] bool met() const { return ok && worst() <= 0.05 && std::abs(r1) <= 0.01 && comfort <= 0.5; }
+  // Issue 49's bar for woven tiles: 10 %, R1 2 %, comfort ≤ 1 %.
+  [[nodiscard]] bool met_woven() const { return ok && worst() <= 0.10 && std::abs(r1) <= 0.02 && comfort <= 1.0; }
 };
 
 RecoveryRow recovery_row(const std::string& label, const Problem& p, const calibration::YarnFitResult& r) {
@@ -202,19 +209,22 @@ RecoveryRow recovery_row(const std::string& label, const Problem& p, const calib
 }
 
 void print_goal_table(const std::vector<RecoveryRow>& rows, int threads) {
-  std::printf("\ngoal table (issue 33): ks1, eps_s, kb, kc1 within 5 %%, R1 within 1 %%, comfort <= 0.5 %%; time <= "
-              "300 s (moonshot 120 s), %d thread(s)\n",
+  std::printf("\ngoal table: issue 33's bar (ks1, eps_s, kb, kc1 within 5 %%, R1 within 1 %%, comfort <= 0.5 %%) and "
+              "issue 49's (10 %%, 2 %%, 1 %%); time <= 300 s (moonshot 120 s), %d thread(s)\n",
               threads);
-  std::printf("| case | ks1 | eps_s | kb | R1 | kc1 | comfort | g | time | bar |\n|---|---|---|---|---|---|---|---|---|---|\n");
-  int met = 0, fast = 0;
+  std::printf("| case | ks1 | eps_s | kb | R1 | kc1 | comfort | g | time | bar 33 | bar 49 |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  int met = 0, met_woven = 0, fast = 0;
   for (const auto& r : rows) {
-    std::printf("| %s | %+.1f %% | %+.1f %% | %+.1f %% | %+.2f %% | %+.1f %% | %.2f %% | %.3g | %.0f s | %s |\n",
+    std::printf("| %s | %+.1f %% | %+.1f %% | %+.1f %% | %+.2f %% | %+.1f %% | %.2f %% | %.3g | %.0f s | %s | %s |\n",
                 r.label.c_str(), 100 * r.ks1, 100 * r.eps_s, 100 * r.kb, 100 * r.r1, 100 * r.kc1, r.comfort, r.g,
-                r.seconds, r.met() ? "met" : "MISSED");
+                r.seconds, r.met() ? "met" : "MISSED", r.met_woven() ? "met" : "MISSED");
     met += r.met() ? 1 : 0;
+    met_woven += r.met_woven() ? 1 : 0;
     fast += r.seconds <= 300.0 ? 1 : 0;
   }
-  std::printf("recovered %d of %zu; %d of %zu within 300 s\n", met, rows.size(), fast, rows.size());
+  std::printf("recovered %d of %zu (issue 33's bar), %d of %zu (issue 49's); %d of %zu within 300 s\n", met, rows.size(),
+              met_woven, rows.size(), fast, rows.size());
 }
 
 void print_recovery_goals(const Problem& p, const calibration::YarnFitResult& r, int threads) {
@@ -293,6 +303,71 @@ double rank_correlation(const std::vector<double>& a, const std::vector<double>&
   double d2 = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) d2 += (ra[i] - rb[i]) * (ra[i] - rb[i]);
   return 1.0 - 6.0 * d2 / (n * (n * n - 1.0));
+}
+
+// The truth off by a factor: ks1, kb, kc1 × (1 + f), ε̄s ÷ (1 + f), R1 ÷ (1 + f/10) (its basin
+// is narrow).
+yarn::YarnParams off_truth(const yarn::YarnParams& truth, double f) {
+  yarn::YarnParams q = truth;
+  q.ks1 *= 1.0 + f;
+  q.eps_s /= 1.0 + f;
+  q.kb *= 1.0 + f;
+  q.r1 /= 1.0 + 0.1 * f;
+  q.kc1 *= 1.0 + f;
+  return q;
+}
+
+// g along the straight line (in log θ) from the truth off by `offset` (as `recovery
+// --start-offset`) to the truth: on each point's own rest state, and on the start's rest state
+// held. Shows whether g itself is smooth there and how far the held rest state models it.
+void print_line(const Problem& p, const calibration::YarnFitSettings& base, double offset, int points) {
+  calibration::ObjectiveOptions lo = base.objective;
+  lo.samples = base.local_samples;
+  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, lo);
+  const yarn::YarnParams start = off_truth(p.truth, offset);
+  const calibration::RestState held = objective.rest_state(start);
+  std::printf("line from the truth off by %.0f %% (w = 0) to the truth (w = 1), log-linear; held: the start's rest state\n",
+              100 * offset);
+  for (int k = 0; k < points; ++k) {
+    const double w = points > 1 ? static_cast<double>(k) / (points - 1) : 0.0;
+    yarn::YarnParams q = p.truth;
+    for (double yarn::YarnParams::*f : {&yarn::YarnParams::ks1, &yarn::YarnParams::eps_s, &yarn::YarnParams::kb,
+                                        &yarn::YarnParams::r1, &yarn::YarnParams::kc1})
+      q.*f = start.*f * std::pow(p.truth.*f / start.*f, w);
+    const auto own = objective.evaluate(q);
+    const auto at_held = objective.evaluate_at_rest(held, q, {});
+    const calibration::RestState rs = objective.rest_state(q);
+    std::printf("  w %.3f  g own %.5g  g held %.5g  rest: %d its, stress %.3g %.3g, E %.4g %.4g %.4g, max dL %.4g, clamped %d, "
+                "energy %.6g, min distance %.5g\n",
+                w, own.ok ? own.value : std::nan(""), at_held.ok ? at_held.value : std::nan(""), rs.newton_iterations,
+                rs.rest.rest_stress(0, 0), rs.rest.rest_stress(1, 1), rs.rest.period_stretch(0, 0),
+                rs.rest.period_stretch(1, 1), rs.rest.period_stretch(0, 1), rs.rest.max_length_change, rs.rest.clamped_edges,
+                rs.system ? rs.system->energy(rs.g) : std::nan(""), rs.system ? rs.system->min_contact_distance(rs.g) : std::nan(""));
+    std::fflush(stdout);
+  }
+}
+
+// Where one evaluation of the local step's objective spends its time (issue 49), at the truth
+// and 10 % off it: the rest relaxation (Newton iterations, seconds), then the samples' solves
+// (per sample, Newton iterations per solve, compression bands found flat, seconds).
+void print_evaluation_cost(const Problem& p, const calibration::YarnFitSettings& base) {
+  calibration::ObjectiveOptions lo = base.objective;
+  lo.samples = base.local_samples;
+  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, lo);
+  const yarn::YarnParams off = off_truth(p.truth, 0.1);
+  for (const auto& [label, q] : {std::pair{"truth", p.truth}, std::pair{"10 % off", off}}) {
+    const auto t0 = numerics::Clock::now();
+    const calibration::RestState rest = objective.rest_state(q);
+    const double rest_seconds = numerics::seconds_since(t0);
+    const auto r = objective.evaluate_at_rest(rest, q, {});
+    const int samples = lo.samples * static_cast<int>(r.directions.size());
+    std::printf("%-9s rest %d Newton iterations %.2f s; samples %d: %d solves (%.1f per sample), %.1f Newton "
+                "iterations per solve, %d flat bands, %.2f s; g %.4g\n",
+                label, rest.newton_iterations, rest_seconds, samples, r.solves,
+                samples > 0 ? static_cast<double>(r.solves) / samples : 0.0,
+                r.solves > 0 ? static_cast<double>(r.newton_iterations) / r.solves : 0.0, r.flat_compressions,
+                r.seconds, r.value);
+  }
 }
 
 // How well cheaper objectives (fewer stretch samples, fewer rest-shape rounds) rank candidates
@@ -445,6 +520,7 @@ int main(int argc, char** argv) {
     else if (key == "--accept-bands") base.objective.accept_bands = std::atof(value);
     else if (key == "--rest-rounds") base.objective.rest.rounds = std::atoi(value);
     else if (key == "--rounds") base.alternation.max_rounds = std::atoi(value);
+    else if (key == "--rest-difference-step") base.alternation.rest_difference_step = std::atof(value);
     else if (key == "--r1-window") base.staged.r1_window = std::atof(value);
     else if (key == "--root-correction") base.objective.root_correction = std::atoi(value) != 0;
     else if (key == "--local-method" || key == "--local") {
@@ -468,6 +544,26 @@ int main(int argc, char** argv) {
     }
   }
   try {
+    if (mode == "goals") {
+      // Every case of issue 33's table, one fit each; --cases names a subset (tile:truth[:seed], comma
+      // separated); tiles by name of ../shared/data/patterns or a .pyp path.
+      std::vector<RecoveryRow> rows;
+      for (const std::string& item : split(cases, ',')) {
+        const std::vector<std::string> f = split(item, ':');
+        if (f.size() < 2) throw std::invalid_argument("--cases: expected tile:truth[:seed], got " + item);
+        std::string case_truth = f[1];  // KS1/EPS_S[/KC1]: '/' for the ',' of --truth
+        std::replace(case_truth.begin(), case_truth.end(), '/', ',');
+        const Problem q = make_problem(shared, f[0], case_truth, max_stretch);
+        calibration::YarnFitSettings s = base;
+        if (f.size() > 2) s.seed = std::stoull(f[2]);
+        const calibration::YarnFitResult r = run(q, s);
+        print_fit(item.c_str(), q, r, true);
+        rows.push_back(recovery_row(item, q, r));
+        std::fflush(stdout);
+      }
+      print_goal_table(rows, base.threads);
+      return 0;
+    }
     const Problem p = make_problem(shared, tile, truth, max_stretch);
     if (mode == "recovery" || mode == "profile") {
       std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), local step %s, at most %d "
@@ -514,15 +610,8 @@ int main(int argc, char** argv) {
       if (mode == "recovery") {
         calibration::YarnFitSettings s = base;
         if (start_offset > 0.0) {
-          // ks1, kb, kc1 × (1 + f), ε̄s and R1 ÷ (1 + f), R1's offset a tenth as large (its basin is narrow).
-          yarn::YarnParams q = p.truth;
-          q.ks1 *= 1.0 + start_offset;
-          q.eps_s /= 1.0 + start_offset;
-          q.kb *= 1.0 + start_offset;
-          q.r1 /= 1.0 + 0.1 * start_offset;
-          q.kc1 *= 1.0 + start_offset;
           s.swarm = false;
-          s.start = q;
+          s.start = off_truth(p.truth, start_offset);
           std::printf("local step alone from the truth off by %.0f %% (R1 by %.1f %%)\n", 100 * start_offset,
                       10 * start_offset);
         }
@@ -530,22 +619,10 @@ int main(int argc, char** argv) {
         print_fit("recovery", p, r, true);
         print_recovery_goals(p, r, base.threads);
       }
-    } else if (mode == "goals") {
-      // Every case of issue 33's table, one fit each; --cases names a subset (tile:truth[:seed], comma
-      // separated); tiles by name of ../shared/data/patterns or a .pyp path.
-      std::vector<RecoveryRow> rows;
-      for (const std::string& item : split(cases, ',')) {
-        const std::vector<std::string> f = split(item, ':');
-        if (f.size() < 2) throw std::invalid_argument("--cases: expected tile:truth[:seed], got " + item);
-        const Problem q = make_problem(shared, f[0], f[1], max_stretch);
-        calibration::YarnFitSettings s = base;
-        if (f.size() > 2) s.seed = std::stoull(f[2]);
-        const calibration::YarnFitResult r = run(q, s);
-        print_fit(item.c_str(), q, r, true);
-        rows.push_back(recovery_row(item, q, r));
-        std::fflush(stdout);
-      }
-      print_goal_table(rows, base.threads);
+    } else if (mode == "cost") {
+      print_evaluation_cost(p, base);
+    } else if (mode == "line") {
+      print_line(p, base, start_offset > 0 ? start_offset : 0.1, candidate_count + 5);
     } else if (mode == "fidelity") {
       print_fidelity(p, base, candidate_count);
     } else if (mode == "candidates") {

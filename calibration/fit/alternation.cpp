@@ -286,6 +286,32 @@ class Alternation {
   [[nodiscard]] const Eigen::MatrixXd& secant() const { return m_secant; }
   void forget_secant() { m_secant.resize(0, 0); }
 
+  // Measures what relaxing the rest state adds to the residuals' derivative at a, by forward
+  // differences of the point's own residuals (each a fresh relaxation) less the held Jacobian,
+  // and makes it the model's B. With it, r_held(u) + B (u − a.u) is r(u) to first order in every
+  // direction. One relaxation and evaluation per coordinate; false (B unchanged) when one fails.
+  bool measure_rest_derivative(const Accepted& a, double step) {
+    const Eigen::VectorXd r0 = residual_vector(a.result);
+    const Eigen::MatrixXd held = residual_jacobian(a.result) * unit_derivative(m_space, m_space.from_unit(a.u)).asDiagonal();
+    if (held.rows() != r0.size() || held.cols() != a.u.size()) return false;
+    Eigen::MatrixXd b(r0.size(), a.u.size());
+    for (int i = 0; i < a.u.size(); ++i) {
+      Eigen::VectorXd u = a.u;
+      const double h = u[i] + step <= 1.0 ? step : -step;  // stay inside the box
+      u[i] += h;
+      const RestState rest = m_objective.rest_state(params_at(u));
+      if (!rest.ok) return false;
+      const ObjectiveResult r = m_objective.evaluate_at_rest(rest, params_at(u), AtRestOptions{});
+      count(r.ok, r.ok ? r.value : kInf);
+      if (!r.ok) return false;
+      const Eigen::VectorXd ri = residual_vector(r);
+      if (ri.size() != r0.size() || !ri.allFinite()) return false;
+      b.col(i) = (ri - r0) / h - held.col(i);
+    }
+    m_secant = b;
+    return true;
+  }
+
  private:
   void count(bool ok, double best) {
     ++m_out.evaluations;
@@ -322,6 +348,7 @@ void keep_linearisation(const Accepted& a, const std::vector<double>& theta, Alt
 void run_rounds(Alternation& alternation, const AlternationSettings& settings, Accepted& at, AlternationSummary& out) {
   double radius = settings.initial_radius;
   int failures_in_a_row = 0;
+  Eigen::VectorXd measured_at;  // where the rest state's derivative was last measured
   for (int k = 1; k <= settings.max_rounds; ++k) {
     const auto round_start = Clock::now();
     AlternationRound round;
@@ -343,20 +370,33 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
       if (trial && round.move <= settings.secant_move) alternation.update_secant(at, held, *trial);
       round.g_true = trial ? trial->g() : kInf;
       round.accepted = trial && trial->g() < at.g();
+      bool mispredicted = !round.accepted;
       if (round.accepted) {
         const double ratio = (at.g() - trial->g()) / std::max(at.g() - held.g, 1e-300);
         if (ratio > 0.75 && round.move > 0.9 * radius) radius = std::min(2.0 * radius, 0.5);
         else if (ratio < 0.25) radius *= 0.5;
+        mispredicted = ratio < 0.25;
         at = std::move(*trial);
       } else {
         radius = 0.5 * round.move;
         alternation.forget_secant();  // it led the model astray
       }
+      // A model that mispredicted lacked the rest state's response: measure it where the next
+      // round starts, once per point.
+      if (mispredicted && settings.rest_difference_step > 0.0 && !(measured_at.size() > 0 && measured_at == at.u)) {
+        const int before = out.evaluations;
+        round.rest_derivative_measured = alternation.measure_rest_derivative(at, settings.rest_difference_step);
+        round.evaluations += out.evaluations - before;
+        if (round.rest_derivative_measured) measured_at = at.u;
+      }
     }
     round.failed = held.failed || !round.accepted;
     round.seconds = numerics::seconds_since(round_start);
     out.rounds.push_back(round);
-    failures_in_a_row = round.failed ? failures_in_a_row + 1 : 0;
+    // A rejected round that measured the rest state's derivative has given the next round a
+    // better model, not a reason to give up.
+    if (!round.failed) failures_in_a_row = 0;
+    else if (!round.rest_derivative_measured) ++failures_in_a_row;
     if (out.converged) return;
     if (failures_in_a_row >= settings.failures_before_fallback) {
       out.fallback_reason = std::to_string(failures_in_a_row) + " rounds in a row found no lower g (last: " +
@@ -403,6 +443,8 @@ db::Problems AlternationSettings::problems() const {
   if (!(initial_radius > 0.0 && initial_radius <= 1.0)) out.add_field("initial_radius", "must be in (0, 1]");
   if (!(move_tolerance > 0.0 && move_tolerance < 1.0)) out.add_field("move_tolerance", "must be in (0, 1)");
   if (failures_before_fallback < 1) out.add_field("failures_before_fallback", "must be at least 1");
+  if (!(rest_difference_step >= 0.0 && rest_difference_step < 0.5))
+    out.add_field("rest_difference_step", "must be in [0, 0.5) (0: never measure the rest state's derivative)");
   out.append(fallback.problems(), "fallback.");
   return out;
 }

@@ -14,7 +14,10 @@
 // (a run that moved far lowered the held g while the point's own g rose: docs/calibration.md),
 // so each run stays inside a box around θ_k that grows
 // after a step the held model predicted well and shrinks after one it did not: a trust region
-// on the alternation. The rounds end when a run from θ_k no longer moves it (the alternation's
+// on the alternation. The model is the held residuals plus B (u − u_k), B the rest state's own
+// contribution to the Jacobian: learnt by Broyden updates from short rounds, and measured by
+// forward differences (one relaxation per parameter) at the point where a round's model
+// mispredicted; a rejected round that measured it does not count towards the fallback. The rounds end when a run from θ_k no longer moves it (the alternation's
 // fixed point: Jᵀr = 0 with the rest state held at θ_k itself), when the box has shrunk below
 // `move_tolerance`, or when they run out. After `failures_before_fallback` rounds in a row
 // without a lower g (or with Ceres failing) the step falls back to implicit filtering from the
@@ -42,6 +45,14 @@ struct AlternationSettings {
   // Rounds that moved at most this far (unit cube) update the secant estimate of the rest
   // state's dependence on θ (0: never); longer moves see more than its linear part.
   double secant_move = 0.03;
+  // After a round whose trial its model did not predict (rejected, or accepted with less than
+  // a quarter of the predicted decrease), the rest state's own derivative is measured at the
+  // current point: forward differences of the re-relaxed residuals, this far apart (unit cube;
+  // 0: never). It replaces the secant estimate, so the next round's model is right to first
+  // order in every direction, not only along the rounds' moves. On tight woven tiles the rest
+  // state moves with θ so much that a model without it fails within a few rounds
+  // (docs/calibration.md, issue 49).
+  double rest_difference_step = 1e-3;
   double move_tolerance = 1e-3;     // converged once a round moves every coordinate by less (unit cube)
   int failures_before_fallback = 2; // failed rounds in a row before implicit filtering takes over
   swarm::ImplicitFilteringSettings fallback;  // its max_evaluations is the fallback's budget
@@ -62,6 +73,9 @@ struct AlternationRound {
   int iterations = 0;         // Ceres iterations
   std::string termination;    // Ceres' termination, or why the round failed
   bool failed = false;
+  // After the round: the rest state's derivative measured at the current point (one relaxation
+  // per coordinate, counted in `evaluations`).
+  bool rest_derivative_measured = false;
   double seconds = 0.0;
 };
 

@@ -24,13 +24,13 @@ std::string weave_names() {
 
 // Depth of a yarn along its length: `over[i]` says whether it lies on top at its crossing i
 // (centred at i + ½ in units of the spacing); a half cosine between successive crossings.
-double depth_along(const std::vector<bool>& over, double at, double half_gap) {
+double depth_along(const std::vector<bool>& over, double at, double amplitude) {
   const int n = static_cast<int>(over.size());
   const double u = at - 0.5;  // crossings at integer u
   const int i = static_cast<int>(std::floor(u));
   const double t = u - i;
-  const double z0 = over[static_cast<std::size_t>(periodic(i, n))] ? half_gap : -half_gap;
-  const double z1 = over[static_cast<std::size_t>(periodic(i + 1, n))] ? half_gap : -half_gap;
+  const double z0 = over[static_cast<std::size_t>(periodic(i, n))] ? amplitude : -amplitude;
+  const double z1 = over[static_cast<std::size_t>(periodic(i + 1, n))] ? amplitude : -amplitude;
   return z0 + (z1 - z0) * 0.5 * (1.0 - std::cos(std::numbers::pi * t));
 }
 
@@ -106,6 +106,7 @@ Problems WovenTileOptions::problems() const {
   if (vertices_per_crossing < 3)
     out.add_field("vertices_per_crossing", "must be at least 3, got " + std::to_string(vertices_per_crossing));
   if (!positive(depth)) out.add_field("depth", "must be positive");
+  if (!(weft_crimp_share > 0.0 && weft_crimp_share < 1.0)) out.add_field("weft_crimp_share", "must be in (0, 1)");
   return out;
 }
 
@@ -122,12 +123,15 @@ PeriodicTile make_woven_tile(const WeaveChart& chart, const WovenTileOptions& op
   tile.radius = options.yarn_radius;
   // One periodic yarn over `over.size()` crossings, vertex k at k/n crossings past the
   // first crossing's centre; the last edge closes over one period.
+  // The gap at a crossing, 2 half_gap, is the sum of the two yarns' crimp amplitudes.
+  const double weft_amplitude = 2.0 * options.weft_crimp_share * half_gap;
+  const double warp_amplitude = 2.0 * (1.0 - options.weft_crimp_share) * half_gap;
   const auto add_yarn = [&](const std::vector<bool>& over, bool along_x, double across) {
     const int first = tile.vertex_count();
     const int count = static_cast<int>(over.size()) * n;
     for (int k = 0; k < count; ++k) {
       const double at = 0.5 + static_cast<double>(k) / n;  // in spacings; crossing i's centre at i + ½
-      const double along = at * s, z = depth_along(over, at, half_gap);
+      const double along = at * s, z = depth_along(over, at, along_x ? weft_amplitude : warp_amplitude);
       // Centred on the origin, as the HYLC tiles are.
       if (along_x) tile.positions.push_back({along - 0.5 * tile.period_x, across - 0.5 * tile.period_y, z});
       else tile.positions.push_back({across - 0.5 * tile.period_x, along - 0.5 * tile.period_y, z});

@@ -13,7 +13,7 @@
 //
 // Geometry: yarns of radius R, neighbouring parallel yarns `yarn_spacing` s apart, so the
 // period is (warps · s) × (wefts · s). At a crossing the two centrelines are 2·depth·R apart
-// in z, symmetric about the middle plane (depth 1: just touching). Between two crossings of
+// in z (depth 1: just touching), shared between the two yarns' crimp by weft_crimp_share. Between two crossings of
 // a yarn the depth follows a half cosine, so a float (two crossings on the same side) stays
 // flat. Every yarn has `vertices_per_crossing` polyline vertices per crossing, one of them
 // over the crossing's centre; rest lengths are the edge lengths, rest curvatures zero (a
@@ -55,6 +55,9 @@ struct WovenTileOptions {
   double yarn_radius = 0.0;   // R [m]
   int vertices_per_crossing = 6;
   double depth = 1.0;         // half the centreline gap at a crossing, in yarn radii
+  // The weft's share of that gap as crimp (Peirce's h_weft / (h_weft + h_warp)): the weft's
+  // centreline swings ±2·share·depth·R, the warp's ±2·(1 − share)·depth·R.
+  double weft_crimp_share = 0.6;
 
   // What is wrong, under each option's name; empty if usable.
   [[nodiscard]] Problems problems() const;

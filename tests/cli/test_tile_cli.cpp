@@ -56,7 +56,7 @@ TEST(TileCli, BadArgumentsAreNamed) {
 }
 
 // A woven tile (issue 37): written as constructed, readable by the yarn commands, and the
-// options of the other kind of tile refused.
+// options of the other kind of tile (and a crimp share outside (0, 1)) refused.
 TEST(TileCli, AWovenTileIsWrittenFromItsWeave) {
   ScratchDir dir("tile_make_weave");
   const fs::path out = dir / "basket.pyp";
@@ -77,6 +77,15 @@ TEST(TileCli, AWovenTileIsWrittenFromItsWeave) {
   EXPECT_NE(bad.err.find("--stitch-length-mm: a woven tile takes --yarn-spacing-mm"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("at least twice the yarn radius"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "bad.pyp"));
+  const auto share = run_cli("tile make --weave plain --yarn-spacing-mm 1.5 --yarn-radius-mm 0.5 --weft-crimp-share 1 "
+                             "--out " + quoted(dir / "share.pyp"));
+  EXPECT_EQ(share.exit_code, 2);
+  EXPECT_NE(share.err.find("weft_crimp_share: must be in (0, 1)"), std::string::npos) << share.err;
+  EXPECT_FALSE(fs::exists(dir / "share.pyp"));
+  const auto knit_share = run_cli("tile make --chart seed --stitch-length-mm 10 --yarn-radius-mm 0.5 "
+                                  "--weft-crimp-share 0.7 --out " + quoted(dir / "knit.pyp"));
+  EXPECT_EQ(knit_share.exit_code, 2);
+  EXPECT_NE(knit_share.err.find("--weft-crimp-share: only for a woven tile"), std::string::npos) << knit_share.err;
   const auto neither = run_cli("tile make --yarn-radius-mm 0.5 --stitch-length-mm 10 --out " + quoted(dir / "n.pyp"));
   EXPECT_EQ(neither.exit_code, 2);
   EXPECT_NE(neither.err.find("--chart: a knit chart (or --weave) is required"), std::string::npos) << neither.err;

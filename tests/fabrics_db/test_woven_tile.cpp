@@ -2,10 +2,11 @@
 // issue 37's slack reproducers): the named charts, chart errors, and for every named chart
 // at two radii: the pyp checks pass, every yarn closes over one period in its direction, the
 // yarn on top at a crossing lies 2·depth·R above the other, exactly as the chart says, and
-// parallel neighbours are the spacing apart.
+// parallel neighbours are the spacing apart; the crimp is shared between weft and warp as asked.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -66,6 +67,34 @@ TEST(WovenTile, BadOptionsAreRefused) {
   o.vertices_per_crossing = 2;
   EXPECT_NE(o.problems().to_string().find("vertices_per_crossing: must be at least 3"), std::string::npos)
       << o.problems().to_string();
+  o.vertices_per_crossing = 6;
+  for (const double share : {0.0, 1.0, std::nan("")}) {
+    o.weft_crimp_share = share;
+    EXPECT_NE(o.problems().to_string().find("weft_crimp_share: must be in (0, 1)"), std::string::npos)
+        << share << ": " << o.problems().to_string();
+  }
+}
+
+// The gap at a crossing is the sum of the two yarns' crimp amplitudes, shared as asked: each
+// yarn swings between ±its amplitude, the weft's 2·share·R, the warp's 2·(1 − share)·R.
+TEST(WovenTile, TheCrimpIsSharedBetweenWeftAndWarpAsAsked) {
+  const auto chart = parse_weave_chart("plain");
+  ASSERT_TRUE(chart);
+  for (const double share : {0.5, 0.6, 0.8}) {
+    WovenTileOptions o;
+    o.yarn_spacing = 1.5e-3;
+    o.yarn_radius = 0.5e-3;
+    o.weft_crimp_share = share;
+    const PeriodicTile tile = make_woven_tile(*chart, o);
+    const int weft_vertices = chart->wefts() * chart->warps() * o.vertices_per_crossing;
+    double weft_swing = 0, warp_swing = 0;
+    for (int v = 0; v < tile.vertex_count(); ++v) {
+      double& swing = v < weft_vertices ? weft_swing : warp_swing;
+      swing = std::max(swing, std::abs(tile.positions[static_cast<std::size_t>(v)][2]));
+    }
+    EXPECT_NEAR(weft_swing, 2 * share * o.yarn_radius, 1e-15) << share;
+    EXPECT_NEAR(warp_swing, 2 * (1 - share) * o.yarn_radius, 1e-15) << share;
+  }
 }
 
 TEST(WovenTile, EveryNamedWeaveIsAValidTileWithTheChartsCrossings) {
