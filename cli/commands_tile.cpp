@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -21,7 +22,7 @@ struct TileMakeArgs {
   std::string chart, weave, out, params_file;
   double stitch_length_mm = 0.0;
   double yarn_spacing_mm = 0.0;
-  double weft_crimp_share = db::WovenTileOptions{}.weft_crimp_share;
+  std::optional<double> weft_crimp_share;  // woven tiles; unset: WovenTileOptions' default
   double yarn_radius_mm = 0.0;
   double ks2 = 400.0;
   std::vector<double> gauge;  // courses, wales per 10 cm
@@ -43,7 +44,7 @@ int run_weave_make(const TileMakeArgs& a) {
   db::WovenTileOptions o;
   o.yarn_spacing = 1e-3 * a.yarn_spacing_mm;
   o.yarn_radius = 1e-3 * a.yarn_radius_mm;
-  o.weft_crimp_share = a.weft_crimp_share;
+  o.weft_crimp_share = a.weft_crimp_share.value_or(o.weft_crimp_share);
   const db::Problems weave = o.problems();
   for (const auto& p : weave.items()) problems.push_back("woven geometry (--yarn-spacing-mm, --yarn-radius-mm, --weft-crimp-share): " + p.to_string());
   if (std::filesystem::exists(a.out) && !a.force) problems.push_back(a.out + ": exists (pass --force to replace it)");
@@ -56,13 +57,14 @@ int run_weave_make(const TileMakeArgs& a) {
   if (a.json) {
     const results::WovenTileFile record{chart->name,      chart->text(),     {1e3 * tile.period_x, 1e3 * tile.period_y},
                                         a.yarn_spacing_mm, a.yarn_radius_mm, static_cast<long long>(tile.vertex_count()),
-                                        a.out};
+                                        a.out,             o.weft_crimp_share};
     std::cout << results::to_json(record).dump(2)
               << "\n";
   } else if (!a.quiet) {
     std::cout << "tile make --weave " << a.weave << " (" << chart->text() << "), yarns "
               << db::format_g(a.yarn_spacing_mm) << " mm apart, R " << db::format_g(a.yarn_radius_mm)
-              << " mm, weft crimp share " << db::format_g(a.weft_crimp_share) << ": " << chart->warps() << " warps x " << chart->wefts() << " wefts, " << tile.vertex_count()
+              << " mm, weft crimp share " << db::format_g(o.weft_crimp_share) << ": " << chart->warps()
+              << " warps x " << chart->wefts() << " wefts, " << tile.vertex_count()
               << " vertices, period " << db::format_g(1e3 * tile.period_x, 4) << " x "
               << db::format_g(1e3 * tile.period_y, 4) << " mm\n"
               << "  as constructed (not relaxed: the yarn commands relax it at rest); wrote " << a.out << "\n";
@@ -77,7 +79,7 @@ int run_tile_make(const TileMakeArgs& a) {
   const auto chart = db::parse_knit_chart(a.chart, &why);
   if (!chart) problems.push_back("--chart: " + (a.chart.empty() ? std::string("a knit chart (or --weave) is required") : why));
   if (a.yarn_spacing_mm != 0.0) problems.push_back("--yarn-spacing-mm: only for a woven tile (--weave)");
-  if (a.weft_crimp_share != db::WovenTileOptions{}.weft_crimp_share) problems.push_back("--weft-crimp-share: only for a woven tile (--weave)");
+  if (a.weft_crimp_share) problems.push_back("--weft-crimp-share: only for a woven tile (--weave)");
   if (!(std::isfinite(a.stitch_length_mm) && a.stitch_length_mm > 0.0))
     problems.push_back("--stitch-length-mm: must be a positive length in millimetres");
   if (!(std::isfinite(a.yarn_radius_mm) && a.yarn_radius_mm > 0.0))
@@ -185,8 +187,8 @@ void add_tile_commands(CLI::App& app, int& exit_code) {
   make->add_option("--yarn-radius-mm", args->yarn_radius_mm, "Yarn radius [mm]")->required();
   make->add_option("--weft-crimp-share", args->weft_crimp_share,
                    "The weft's share of the crimp at a crossing, in (0, 1): the weft swings over that fraction of "
-                   "the two yarns' height difference, the warp over the rest (woven tiles)")
-      ->capture_default_str();
+                   "the two yarns' height difference, the warp over the rest (woven tiles; default " +
+                       db::format_g(db::WovenTileOptions{}.weft_crimp_share) + ": the warp, woven under tension, keeps less)");
   make->add_option("--gauge", args->gauge,
                    "Knitting gauge, courses and wales per 10 cm (e.g. 52,38): the loops are built at this period and "
                    "hold it; the rest lengths and curvatures absorb the rest stress (knits)")

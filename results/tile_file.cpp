@@ -58,6 +58,7 @@ json to_json(const WovenTileFile& t) {
           {"period_mm", pair_json(t.period_mm)},
           {"yarn_spacing_mm", t.yarn_spacing_mm},
           {"yarn_radius_mm", t.yarn_radius_mm},
+          {"weft_crimp_share", t.weft_crimp_share},
           {"vertices", t.vertices},
           {"relaxed", false},
           {"file", t.file}};

@@ -56,6 +56,7 @@ struct WovenTileFile {
   double yarn_radius_mm = 0.0;
   long long vertices = 0;
   std::string file;  // the .pyp written
+  double weft_crimp_share = 0.0;  // the weft's share of the crimp at a crossing
 };
 
 [[nodiscard]] nlohmann::json to_json(const TileFile& file);

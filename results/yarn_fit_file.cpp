@@ -1,5 +1,6 @@
 #include "results/yarn_fit_file.hpp"
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -160,6 +161,9 @@ json settings_json(const YarnFitSettingsRecord& s) {
   };
   if (s.start) j["start"] = *s.start;
   if (!s.resumed_from.empty()) j["resumed_from"] = s.resumed_from;
+  // Since issue 49; absent (NaN on reading) in older files, which write back as they were.
+  if (std::isfinite(s.alternation_rest_difference_step))
+    j["alternation"]["rest_difference_step"] = s.alternation_rest_difference_step;
   return j;
 }
 
@@ -179,6 +183,7 @@ YarnFitSettingsRecord read_settings(const json& s, const Where& at) {
   r.alternation_iterations_per_round = integer(alternation, "iterations_per_round", wa, 0);
   r.alternation_initial_radius = number(alternation, "initial_radius", wa, k_nan);
   r.alternation_move_tolerance = number(alternation, "move_tolerance", wa, k_nan);
+  r.alternation_rest_difference_step = number(alternation, "rest_difference_step", wa, k_nan);
   r.particles = integer(s, "particles", at, 0);
   r.iterations = integer(s, "iterations", at, 0);
   r.swarm_samples = integer(s, "swarm_samples", at, 0);
@@ -269,8 +274,8 @@ json local_run_json(const LocalRunRecord& l) {
   }
   if (l.rounds) {
     json rounds = json::array();
-    for (const auto& r : *l.rounds)
-      rounds.push_back({{"round", r.round},
+    for (const auto& r : *l.rounds) {
+      json round = {{"round", r.round},
                         {"objective_start", pct_json(r.objective_start)},
                         {"objective_held", pct_json(r.objective_held)},
                         {"objective_trial", pct_json(r.objective_trial)},
@@ -278,7 +283,10 @@ json local_run_json(const LocalRunRecord& l) {
                         {"move", r.move},
                         {"iterations", r.iterations},
                         {"evaluations", r.evaluations},
-                        {"termination", r.termination}});
+                        {"termination", r.termination}};
+      if (r.rest_derivative_measured) round["rest_derivative_measured"] = true;  // absent: false (older files)
+      rounds.push_back(round);
+    }
     j["rounds"] = rounds;
   }
   if (l.last_move) j["last_move"] = *l.last_move;
@@ -314,7 +322,8 @@ LocalRunRecord read_local_run(const json& l, const Where& at) {
       r.rounds->push_back({integer(x, "round", w, 0), number(x, "objective_start", w, k_nan),
                            number(x, "objective_held", w, k_nan), number(x, "objective_trial", w, k_nan),
                            boolean(x, "accepted", w, false), number(x, "move", w, k_nan), integer(x, "iterations", w, 0),
-                           integer(x, "evaluations", w, 0), string(x, "termination", w)});
+                           integer(x, "evaluations", w, 0), string(x, "termination", w),
+                           boolean(x, "rest_derivative_measured", w, false)});
     });
   }
   if (member(l, "last_move")) r.last_move = number(l, "last_move", at, k_nan);

@@ -119,6 +119,7 @@ struct YarnFitSettingsRecord {
   int alternation_iterations_per_round = 0;
   double alternation_initial_radius = 0.0;
   double alternation_move_tolerance = 0.0;
+  double alternation_rest_difference_step = 0.0;  // absent in older files: NaN
   int particles = 0;  // 0 without a global search
   int iterations = 0;
   int swarm_samples = 0;
@@ -189,6 +190,7 @@ struct AlternationRoundRecord {
   int iterations = 0;
   int evaluations = 0;
   std::string termination;
+  bool rest_derivative_measured = false;  // after the round (issue 49); absent in older files: false
 };
 
 // Why the alternation handed over to implicit filtering, and how that went.

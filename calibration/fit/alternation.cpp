@@ -285,6 +285,7 @@ class Alternation {
   }
   [[nodiscard]] const Eigen::MatrixXd& secant() const { return m_secant; }
   void forget_secant() { m_secant.resize(0, 0); }
+  void use_secant(const Eigen::MatrixXd& b) { m_secant = b; }
 
   // Measures what relaxing the rest state adds to the residuals' derivative at a, by forward
   // differences of the point's own residuals (each a fresh relaxation) less the held Jacobian,
@@ -300,8 +301,15 @@ class Alternation {
       const double h = u[i] + step <= 1.0 ? step : -step;  // stay inside the box
       u[i] += h;
       const RestState rest = m_objective.rest_state(params_at(u));
-      if (!rest.ok) return false;
-      const ObjectiveResult r = m_objective.evaluate_at_rest(rest, params_at(u), AtRestOptions{});
+      if (!rest.ok) {
+        count(false, kInf);
+        return false;
+      }
+      // The same options as a's own evaluation (the sensitive sweep), so that the difference
+      // sees only the change of θ and of the rest state.
+      AtRestOptions options;
+      options.wanted = m_wanted;
+      const ObjectiveResult r = m_objective.evaluate_at_rest(rest, params_at(u), options);
       count(r.ok, r.ok ? r.value : kInf);
       if (!r.ok) return false;
       const Eigen::VectorXd ri = residual_vector(r);
@@ -347,8 +355,11 @@ void keep_linearisation(const Accepted& a, const std::vector<double>& theta, Alt
 // held rest state is a good model of g only near the point it was relaxed at).
 void run_rounds(Alternation& alternation, const AlternationSettings& settings, Accepted& at, AlternationSummary& out) {
   double radius = settings.initial_radius;
-  int failures_in_a_row = 0;
+  int failures_in_a_row = 0;  // towards the fallback
+  int failed_in_a_row = 0;     // every failed round, for the message
   Eigen::VectorXd measured_at;  // where the rest state's derivative was last measured
+  Eigen::MatrixXd measured_b;   // and what it was
+  const auto measured_here = [&] { return measured_at.size() > 0 && measured_at == at.u; };
   for (int k = 1; k <= settings.max_rounds; ++k) {
     const auto round_start = Clock::now();
     AlternationRound round;
@@ -379,15 +390,23 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
         at = std::move(*trial);
       } else {
         radius = 0.5 * round.move;
-        alternation.forget_secant();  // it led the model astray
+        // A secant learnt from moves led the model astray; one measured at this point is still
+        // right to first order here (the step was only too long).
+        if (measured_here()) alternation.use_secant(measured_b);
+        else alternation.forget_secant();
       }
       // A model that mispredicted lacked the rest state's response: measure it where the next
-      // round starts, once per point.
-      if (mispredicted && settings.rest_difference_step > 0.0 && !(measured_at.size() > 0 && measured_at == at.u)) {
+      // round starts, once per point, unless the box is already too small to use it.
+      if (mispredicted && settings.rest_difference_step > 0.0 && !measured_here() && radius >= settings.move_tolerance) {
         const int before = out.evaluations;
         round.rest_derivative_measured = alternation.measure_rest_derivative(at, settings.rest_difference_step);
         round.evaluations += out.evaluations - before;
-        if (round.rest_derivative_measured) measured_at = at.u;
+        if (round.rest_derivative_measured) {
+          measured_at = at.u;
+          measured_b = alternation.secant();
+        } else {
+          round.termination += "; the rest state's derivative could not be measured (a relaxation failed)";
+        }
       }
     }
     round.failed = held.failed || !round.accepted;
@@ -395,11 +414,12 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
     out.rounds.push_back(round);
     // A rejected round that measured the rest state's derivative has given the next round a
     // better model, not a reason to give up.
+    failed_in_a_row = round.failed ? failed_in_a_row + 1 : 0;
     if (!round.failed) failures_in_a_row = 0;
     else if (!round.rest_derivative_measured) ++failures_in_a_row;
     if (out.converged) return;
     if (failures_in_a_row >= settings.failures_before_fallback) {
-      out.fallback_reason = std::to_string(failures_in_a_row) + " rounds in a row found no lower g (last: " +
+      out.fallback_reason = std::to_string(failed_in_a_row) + " rounds in a row found no lower g (last: " +
                             (held.failed ? held.termination : "g " + std::to_string(round.g_true) + " at the trial") + ")";
       return;
     }

@@ -12,16 +12,16 @@
 // dependence on θ out honestly; relaxing it again at the run's result puts it back: that point
 // becomes θ_{k+1} if its own g is lower. The held rest state is a good model of g only near θ_k
 // (a run that moved far lowered the held g while the point's own g rose: docs/calibration.md),
-// so each run stays inside a box around θ_k that grows
-// after a step the held model predicted well and shrinks after one it did not: a trust region
-// on the alternation. The model is the held residuals plus B (u − u_k), B the rest state's own
-// contribution to the Jacobian: learnt by Broyden updates from short rounds, and measured by
-// forward differences (one relaxation per parameter) at the point where a round's model
-// mispredicted; a rejected round that measured it does not count towards the fallback. The rounds end when a run from θ_k no longer moves it (the alternation's
-// fixed point: Jᵀr = 0 with the rest state held at θ_k itself), when the box has shrunk below
-// `move_tolerance`, or when they run out. After `failures_before_fallback` rounds in a row
-// without a lower g (or with Ceres failing) the step falls back to implicit filtering from the
-// point (swarm/implicit_filtering.hpp) and says so.
+// so each run stays inside a box around θ_k that grows after a step the held model predicted
+// well and shrinks after one it did not: a trust region on the alternation. The model is the
+// held residuals plus B (u − u_k), B the rest state's own contribution to the Jacobian, learnt
+// by Broyden updates from short rounds, and measured by forward differences (one relaxation per
+// parameter) at the point where a round's model mispredicted; a rejected round that measured it
+// does not count towards the fallback. The rounds end when a run from θ_k no longer moves it
+// (the alternation's fixed point: Jᵀr = 0 with the rest state held at θ_k itself), when the box
+// has shrunk below `move_tolerance`, or when they run out. After `failures_before_fallback`
+// rounds in a row without a lower g (or with Ceres failing) the step falls back to implicit
+// filtering from the point (swarm/implicit_filtering.hpp) and says so.
 //
 // The same Jacobian gives the identifiability profile (parameter_profile.hpp) without further
 // evaluations: it is kept, in log θ, with the residuals of the best point.

@@ -45,7 +45,7 @@ json round_json(const AlternationRound& r) {
   return {{"round", r.round},       {"g_start", json_number(r.g_start)}, {"g_end", json_number(r.g_end)},
           {"g_true", json_number(r.g_true)}, {"accepted", r.accepted},   {"move", json_number(r.move)},
           {"evaluations", r.evaluations}, {"iterations", r.iterations}, {"termination", r.termination},
-          {"failed", r.failed},     {"seconds", r.seconds}};
+          {"failed", r.failed},     {"seconds", r.seconds}, {"rest_derivative_measured", r.rest_derivative_measured}};
 }
 
 AlternationRound round_of(const json& j) {
@@ -61,6 +61,7 @@ AlternationRound round_of(const json& j) {
   r.termination = j.at("termination").get<std::string>();
   r.failed = j.at("failed").get<bool>();
   r.seconds = j.at("seconds").get<double>();
+  r.rest_derivative_measured = j.value("rest_derivative_measured", false);  // absent before issue 49
   return r;
 }
 

@@ -411,7 +411,7 @@ results::LocalRunRecord local_record(const LocalStepSummary& l) {
     out.rounds.emplace();
     for (const auto& round : a.rounds)
       out.rounds->push_back({round.round, round.g_start, round.g_end, round.g_true, round.accepted, round.move,
-                             round.iterations, round.evaluations, round.termination});
+                             round.iterations, round.evaluations, round.termination, round.rest_derivative_measured});
     out.last_move = a.last_move;
     out.fell_back = a.fell_back;
     if (a.fell_back)
@@ -434,6 +434,7 @@ results::YarnFitSettingsRecord settings_record(const YarnFitSettings& settings, 
   s.alternation_iterations_per_round = settings.alternation.iterations_per_round;
   s.alternation_initial_radius = settings.alternation.initial_radius;
   s.alternation_move_tolerance = settings.alternation.move_tolerance;
+  s.alternation_rest_difference_step = settings.alternation.rest_difference_step;
   s.particles = settings.swarm ? settings.particles : 0;
   s.iterations = settings.swarm ? settings.iterations : 0;
   s.swarm_samples = settings.swarm_samples;

@@ -70,10 +70,12 @@ TEST(YarnFitSettings, EveryInvalidFieldIsNamed) {
   s.local_compression_nodes = 1;
   s.threads = -1;
   s.resume = true;  // without a checkpoint
+  s.alternation.rest_difference_step = 0.5;
   const auto problems = s.problems();
   std::vector<std::string> fields;
   for (const auto& p : problems.items()) fields.push_back(p.field);
-  EXPECT_EQ(fields, (std::vector<std::string>{"particles", "swarm_samples", "local_compression_nodes", "threads", "resume"}))
+  EXPECT_EQ(fields, (std::vector<std::string>{"particles", "swarm_samples", "local_compression_nodes", "threads", "resume",
+                                              "alternation.rest_difference_step"}))
       << problems.to_string();
   EXPECT_EQ(problems.items()[0].to_string(), "particles: must be at least 2 (got 1)");
   EXPECT_EQ(problems.one_line().find("particles: must be at least 2 (got 1); swarm_samples:"), 0u) << problems.one_line();
@@ -83,6 +85,7 @@ TEST(YarnFitSettings, EveryInvalidFieldIsNamed) {
   s.threads = 0;
   s.swarm_samples = 2;
   s.local_compression_nodes = 0;
+  s.alternation.rest_difference_step = 0.0;  // never measured: valid
   EXPECT_TRUE(s.problems().empty()) << s.problems().to_string();
   EXPECT_THROW((void)fit_yarn_params(yarn::YarnTile{}, {}, {1.0, 1.0}, [] {
     YarnFitSettings bad;

@@ -67,6 +67,7 @@ TEST(TileCli, AWovenTileIsWrittenFromItsWeave) {
   EXPECT_EQ(j.at("weave_rows"), "1100/1100/0011/0011");
   EXPECT_NEAR(j.at("period_mm")[0].get<double>(), 6.0, 1e-12);
   EXPECT_EQ(j.at("vertices").get<int>(), 8 * 4 * 6);
+  EXPECT_EQ(j.at("weft_crimp_share").get<double>(), 0.6);
   db::Problems problems;
   EXPECT_TRUE(db::read_pyp(out, problems)) << problems.to_string();
   const auto bad = run_cli("tile make --weave 11/00 --chart seed --stitch-length-mm 3 --yarn-spacing-mm 0.8 "
@@ -83,7 +84,7 @@ TEST(TileCli, AWovenTileIsWrittenFromItsWeave) {
   EXPECT_NE(share.err.find("weft_crimp_share: must be in (0, 1)"), std::string::npos) << share.err;
   EXPECT_FALSE(fs::exists(dir / "share.pyp"));
   const auto knit_share = run_cli("tile make --chart seed --stitch-length-mm 10 --yarn-radius-mm 0.5 "
-                                  "--weft-crimp-share 0.7 --out " + quoted(dir / "knit.pyp"));
+                                  "--weft-crimp-share 0.6 --out " + quoted(dir / "knit.pyp"));
   EXPECT_EQ(knit_share.exit_code, 2);
   EXPECT_NE(knit_share.err.find("--weft-crimp-share: only for a woven tile"), std::string::npos) << knit_share.err;
   const auto neither = run_cli("tile make --yarn-radius-mm 0.5 --stitch-length-mm 10 --out " + quoted(dir / "n.pyp"));

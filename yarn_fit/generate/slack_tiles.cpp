@@ -23,10 +23,11 @@ SlackReproducer woven(const std::string& name, const std::string& weave, double 
   db::WovenTileOptions o;
   o.yarn_spacing = kWovenSpacing;
   o.yarn_radius = radius;
+  o.weft_crimp_share = 0.5;  // balanced, as issue 37 measured them (docs/slack-tiles.md)
   SlackReproducer r;
   r.name = name;
   r.construction = weave + " weave (" + chart->text() + "), yarns " + db::format_g(1e3 * kWovenSpacing) +
-                   " mm apart, R " + db::format_g(1e3 * radius) + " mm";
+                   " mm apart, R " + db::format_g(1e3 * radius) + " mm, balanced crimp";
   r.tile = db::make_woven_tile(*chart, o);
   r.params = default_params({kDefaultKs2, radius});
   return r;
