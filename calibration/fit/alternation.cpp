@@ -285,7 +285,6 @@ class Alternation {
   }
   [[nodiscard]] const Eigen::MatrixXd& secant() const { return m_secant; }
   void forget_secant() { m_secant.resize(0, 0); }
-  void use_secant(const Eigen::MatrixXd& b) { m_secant = b; }
 
   // Measures what relaxing the rest state adds to the residuals' derivative at a, by forward
   // differences of the point's own residuals (each a fresh relaxation) less the held Jacobian,
@@ -305,11 +304,10 @@ class Alternation {
         count(false, kInf);
         return false;
       }
-      // The same options as a's own evaluation (the sensitive sweep), so that the difference
-      // sees only the change of θ and of the rest state.
-      AtRestOptions options;
-      options.wanted = m_wanted;
-      const ObjectiveResult r = m_objective.evaluate_at_rest(rest, params_at(u), options);
+      // Without sensitivities, unlike a's own evaluation. Evaluating these with them too was
+      // tried: it moved the measured B and changed which valley a knit fit ended in
+      // (docs/calibration.md, "Woven tiles").
+      const ObjectiveResult r = m_objective.evaluate_at_rest(rest, params_at(u), AtRestOptions{});
       count(r.ok, r.ok ? r.value : kInf);
       if (!r.ok) return false;
       const Eigen::VectorXd ri = residual_vector(r);
@@ -358,7 +356,6 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
   int failures_in_a_row = 0;  // towards the fallback
   int failed_in_a_row = 0;     // every failed round, for the message
   Eigen::VectorXd measured_at;  // where the rest state's derivative was last measured
-  Eigen::MatrixXd measured_b;   // and what it was
   const auto measured_here = [&] { return measured_at.size() > 0 && measured_at == at.u; };
   for (int k = 1; k <= settings.max_rounds; ++k) {
     const auto round_start = Clock::now();
@@ -390,20 +387,18 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
         at = std::move(*trial);
       } else {
         radius = 0.5 * round.move;
-        // A secant learnt from moves led the model astray; one measured at this point is still
-        // right to first order here (the step was only too long).
-        if (measured_here()) alternation.use_secant(measured_b);
-        else alternation.forget_secant();
+        // It led the model astray. (Even a derivative measured at this point is dropped: keeping
+        // it was tried, docs/calibration.md, "Woven tiles".)
+        alternation.forget_secant();
       }
       // A model that mispredicted lacked the rest state's response: measure it where the next
-      // round starts, once per point, unless the box is already too small to use it.
-      if (mispredicted && settings.rest_difference_step > 0.0 && !measured_here() && radius >= settings.move_tolerance) {
+      // round starts, once per point.
+      if (mispredicted && settings.rest_difference_step > 0.0 && !measured_here()) {
         const int before = out.evaluations;
         round.rest_derivative_measured = alternation.measure_rest_derivative(at, settings.rest_difference_step);
         round.evaluations += out.evaluations - before;
         if (round.rest_derivative_measured) {
           measured_at = at.u;
-          measured_b = alternation.secant();
         } else {
           round.termination += "; the rest state's derivative could not be measured (a relaxation failed)";
         }
