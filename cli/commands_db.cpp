@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/output.hpp"
+#include "fabrics_db/fab/fab_import.hpp"
 #include "fabrics_db/import/tensile_import.hpp"
 #include "fabrics_db/records/database.hpp"
 #include "fabrics_db/records/fabric_summary.hpp"
@@ -122,11 +123,64 @@ int run_import(const ImportArgs& a) {
   return k_exit_ok;
 }
 
+struct FabArgs {
+  std::string input, output, id, family, material, tile, knit;
+  double denier = 0.0, stitch_length_mm = 0.0, yarn_radius_mm = 0.0;
+  bool quiet = false;
+};
+
+int run_import_fab(const FabArgs& a) {
+  db::FabImportOptions o;
+  o.input = a.input;
+  o.output = a.output;
+  o.id = a.id;
+  o.family = a.family;
+  o.material = a.material;
+  if (a.denier != 0.0) o.denier = a.denier;
+  if (!a.tile.empty()) o.tile = a.tile;
+  o.knit = a.knit;
+  if (a.stitch_length_mm != 0.0) o.stitch_length_mm = a.stitch_length_mm;
+  if (a.yarn_radius_mm != 0.0) o.yarn_radius_mm = a.yarn_radius_mm;
+  const auto r = db::import_fab(o);
+  print_problems(r.problems);
+  if (!r.written) {
+    std::cerr << "nothing written\n";
+    return k_exit_invalid_input;
+  }
+  if (!a.quiet) {
+    const auto& m = *r.measurement;
+    std::size_t tests = 0, branches = 0;
+    for (const auto& [d, ts] : m.tests) {
+      tests += ts.size();
+      for (const auto& t : ts) branches += t.branches.size();
+    }
+    std::cout << "wrote " << o.output.string() << ": " << tests << " FAB tests (" << branches
+              << " branches) from " << m.label << (m.name.empty() ? "" : " (" + m.name + ")") << "\n"
+              << "  mass per area " << db::format_g(m.mass_per_area * 1e3, 4) << " g/m², thickness "
+              << (m.thickness ? db::format_g(*m.thickness * 1e3, 3) + " mm" : "not given") << "\n";
+    for (const auto& [d, ts] : m.tests) {
+      std::cout << "  " << db::to_string(d) << " (" << db::fab_grain_letter(d) << "):";
+      for (const auto& t : ts)
+        std::cout << " " << t.name << " " << db::format_g(t.clamp_distance * 1e3, 4) << " mm"
+                  << (t.zero_offset ? ", zero " + db::format_g(*t.zero_offset / db::k_gram_force, 3) + " gf" : "")
+                  << ";";
+      std::cout << "\n";
+    }
+    std::cout << "  stretch_tests: each grain's S2, its widest loading branch"
+              << (r.stretch_points_dropped > 0 ? " (" + std::to_string(r.stretch_points_dropped) +
+                                                     " samples left out: not advancing or below zero)"
+                                               : "")
+              << "\n";
+  }
+  return k_exit_ok;
+}
+
 // Values the db subcommands parse into; shared by their callbacks, which outlive this call.
 struct DbArgs {
   std::string path, family;
   bool json = false;
   ImportArgs import;
+  FabArgs fab;
 };
 
 }  // namespace
@@ -190,6 +244,28 @@ void add_db_commands(CLI::App& app, int& exit_code) {
   imp->add_flag("--force", ia.force, "Replace the output file if it exists");
   imp->add_flag("-q,--quiet", ia.quiet, "Print nothing on success");
   imp->callback([args, &exit_code] { exit_code = run_import(args->import); });
+
+  auto* fab = db->add_subcommand(
+      "import-fab",
+      "Make a fabric record from a Browzwear FAB measurement (U3M 1.1 physics .json, a .u3m naming "
+      "one, or a .u3ma): every test with its cycles and branches in SI units under fab_tests, the "
+      "physics file kept unchanged, each grain's 8 cm stretch as a stretch test (docs/fab.md). "
+      "Exits 2 naming the file and the JSON path of every problem; nothing is written then.");
+  FabArgs& fa = args->fab;
+  fab->add_option("FILE", fa.input, "The FAB measurement (.json, .u3m or .u3ma)")->required();
+  fab->add_option("-o,--out", fa.output, "The record's folder to create (must not exist)")->required();
+  fab->add_option("--denier", fa.denier, "The yarn's linear density, grams per 9,000 m (the FAB does not measure it)")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  fab->add_option("--id", fa.id, "The record's id (default: the folder's name)");
+  fab->add_option("--family", fa.family, "The record's family (default: the file's category, else 'fab')");
+  fab->add_option("--material", fa.material, "The yarn's material (default: the file's composition)");
+  fab->add_option("--tile", fa.tile, "A periodic yarn tile (.pyp) for a yarn stage, copied into the record");
+  fab->add_option("--knit", fa.knit, "A knit chart to generate the tile from, with the two options below");
+  fab->add_option("--stitch-length-mm", fa.stitch_length_mm, "Stitch length, with --knit")->check(CLI::PositiveNumber);
+  fab->add_option("--yarn-radius-mm", fa.yarn_radius_mm, "Yarn radius, with --knit")->check(CLI::PositiveNumber);
+  fab->add_flag("-q,--quiet", fa.quiet, "Print nothing on success");
+  fab->callback([args, &exit_code] { exit_code = run_import_fab(args->fab); });
 }
 
 }  // namespace yarnfit::cli

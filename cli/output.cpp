@@ -107,6 +107,20 @@ void print_fabric(std::ostream& out, const json& f) {
         << " points, clamp distance " << range(t["clamp_distance_m"], 4, 1e3)
         << " mm, aspect ratio " << range(t["aspect_ratio"]) << "\n";
   }
+  if (f.contains("fab_tests") && !f["fab_tests"].empty()) {
+    out << "  FAB tests (every cycle and branch; docs/fab.md):\n";
+    for (const auto& [dir, tests] : in_direction_order(f["fab_tests"])) {
+      out << "    " << std::left << std::setw(5) << dir << std::right;
+      for (const char* name : {"S1", "S2", "U1", "D1", "D2"}) {
+        if (!tests.contains(name)) continue;
+        const auto& t = tests[name];
+        out << " " << name << " " << g(t["clamp_distance_m"], 4, 1e3) << " mm ("
+            << t["cycles"].get<int>() << " cycles" << (t["zero_offset_N"].is_null() ? "" : ", zero " + g(t["zero_offset_N"], 3) + " N")
+            << ")";
+      }
+      out << "\n";
+    }
+  }
   if (f["pattern"].is_null()) {
     out << "  pattern: none (needed for a yarn fit)\n";
   } else if (f["pattern"].contains("knit")) {

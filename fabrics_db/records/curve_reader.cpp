@@ -146,4 +146,56 @@ std::optional<BendingCurve> read_bending_curve(const CsvTable& table, Problems& 
   return curve;
 }
 
+std::optional<std::vector<FabBranchCurve>> read_fab_test_curve(const CsvTable& table, Problems& problems) {
+  const std::size_t before = problems.size();
+  const std::vector<ColumnSpec> specs{{"cycle", true}, {"branch", true}, {"clamp_distance_mm", true}, {"raw_force_N", true}};
+  const auto columns = find_columns(table, specs, problems);
+  if (problems.size() != before) return std::nullopt;
+  if (!enough_rows(table, problems)) return std::nullopt;
+
+  // Numbers only for the numeric columns; the branch is a word.
+  const std::vector<ColumnSpec> numeric{specs[0], specs[2], specs[3]};
+  const std::vector<std::optional<int>> numeric_columns{columns[0], columns[2], columns[3]};
+  std::vector<FabBranchCurve> branches;
+  std::vector<double> v;
+  for (const auto& row : table.rows) {
+    bool ok = read_row(table, row, numeric, numeric_columns, v, problems);
+    const auto col = static_cast<std::size_t>(*columns[1]);
+    const std::string word = col < row.cells.size() ? std::string(trim(row.cells[col])) : "";
+    const auto branch = parse_fab_branch(word);
+    if (!branch) {
+      problems.add(table.file_label, row.line, "branch", "'" + word + "': expected loading or relaxation");
+      ok = false;
+    }
+    if (ok && (v[0] < 1.0 || v[0] != std::floor(v[0]) || v[0] > 1000.0)) {
+      problems.add(table.file_label, row.line, "cycle", "expected a cycle number 1, 2, …, got " + format_g(v[0]));
+      ok = false;
+    }
+    if (ok && v[1] <= 0.0) {
+      problems.add(table.file_label, row.line, "clamp_distance_mm", "clamp distance must be positive, got " + format_g(v[1]));
+      ok = false;
+    }
+    if (!ok) continue;
+    const int cycle = static_cast<int>(v[0]);
+    if (branches.empty() || branches.back().cycle != cycle || branches.back().branch != *branch) {
+      for (const auto& b : branches)
+        if (b.cycle == cycle && b.branch == *branch)
+          problems.add(table.file_label, row.line, "cycle",
+                       "cycle " + std::to_string(cycle) + " " + std::string(to_string(*branch)) +
+                           " again after other rows: a branch's rows must be together");
+      branches.push_back({cycle, *branch, {}, {}, {}});
+    }
+    branches.back().clamp_distance.push_back(v[1] * 1e-3);
+    branches.back().raw_force.push_back(v[2]);
+    branches.back().source_lines.push_back(row.line);
+  }
+  for (const auto& b : branches)
+    if (b.clamp_distance.size() < k_min_curve_points)
+      problems.add(table.file_label, b.source_lines.front(), "data",
+                   "cycle " + std::to_string(b.cycle) + " " + std::string(to_string(b.branch)) +
+                       " has one sample; a branch needs at least " + std::to_string(k_min_curve_points));
+  if (problems.size() != before) return std::nullopt;
+  return branches;
+}
+
 }  // namespace yarnfit::db

@@ -30,6 +30,29 @@ double pull_angle(Direction d) {
   return 0.0;
 }
 
+std::string_view to_string(FabTestKind kind) {
+  switch (kind) {
+    case FabTestKind::stretch: return "stretch";
+    case FabTestKind::up_bend: return "up bend";
+    case FabTestKind::down_bend: return "down bend";
+  }
+  return "?";
+}
+
+std::string_view to_string(FabBranch branch) { return branch == FabBranch::loading ? "loading" : "relaxation"; }
+
+std::optional<FabBranch> parse_fab_branch(std::string_view name) {
+  if (name == "loading") return FabBranch::loading;
+  if (name == "relaxation") return FabBranch::relaxation;
+  return std::nullopt;
+}
+
+const FabTestName* find_fab_test(std::string_view name) {
+  for (const auto& t : k_fab_tests)
+    if (name == t.name) return &t;
+  return nullptr;
+}
+
 std::optional<double> Fabric::stiffest_yarn_stiffness() const {
   std::optional<double> best;
   for (const auto& y : yarns) {

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fabrics_db/records/fab_test.hpp"
 #include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 
@@ -132,6 +133,10 @@ struct Fabric {
   std::optional<double> thickness;      // [m], as stated
   std::map<Direction, StretchTest> stretch_tests;
   std::map<Direction, BendingTest> bending_tests;
+  // A Browzwear FAB's tests, every cycle and branch (`fab_tests`, docs/fab.md), per direction
+  // in protocol order; empty for other records.
+  std::map<Direction, std::vector<FabTest>> fab_tests;
+  std::optional<FabSource> fab_source;
   nlohmann::json ground_truth = nlohmann::json::object();  // synthetic fabrics only
 
   // Stretch stiffness of the stiffest yarn [N] (sets ks2, SPEC §3), if any yarn states one.

@@ -21,6 +21,9 @@ std::vector<fs::path> record_files(const db::FabricLoad& load) {
     const db::Fabric& f = *load.fabric;
     for (const auto& [d, t] : f.stretch_tests) files.push_back(t.file);
     for (const auto& [d, t] : f.bending_tests) files.push_back(t.file);
+    for (const auto& [d, tests] : f.fab_tests)
+      for (const auto& t : tests) files.push_back(t.file);
+    if (f.fab_source && !f.fab_source->file.empty()) files.push_back(f.fab_source->file);
     if (f.pattern && !f.pattern->knit) files.push_back(f.pattern->file);  // a knit is in fabric.yaml
   } else {
     std::error_code ec;

@@ -142,7 +142,11 @@ class YamlChecker {
 
 const std::vector<std::string> k_top_keys{
     "id",      "family",         "description",  "areal_density_gsm", "yarns",         "pattern",
-    "swatch",  "knitting_gauge", "thickness_mm", "stretch_tests",     "bending_tests", "ground_truth"};
+    "swatch",  "knitting_gauge", "thickness_mm", "stretch_tests",     "bending_tests", "fab_tests",
+    "ground_truth"};
+const std::vector<std::string> k_fab_test_keys{"file",         "clamp_distance_mm", "strip_width_mm", "zero_offset_N",
+                                               "sampling_hz", "test_version",      "time_utc"};
+const std::vector<std::string> k_fab_source_keys{"file", "serial", "hardware_version", "build"};
 const std::vector<std::string> k_knitting_gauge_keys{"courses_per_10cm", "wales_per_10cm"};
 const std::vector<std::string> k_yarn_keys{"material", "denier", "filaments", "mass_fraction",
                                            "stiffness_N"};
@@ -426,6 +430,94 @@ void read_bending_tests(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, P
   });
 }
 
+std::optional<long long> whole_number(YamlChecker& y, const YAML::Node& map, const std::string& key,
+                                      const std::string& path) {
+  const auto v = y.number(map, key, path, false, false);
+  if (!v) return std::nullopt;
+  if (*v != std::floor(*v) || std::abs(*v) > 9e15) {
+    y.problem(YamlChecker::find(map, key).first, YamlChecker::join(path, key), "expected a whole number");
+    return std::nullopt;
+  }
+  return static_cast<long long>(*v);
+}
+
+// fab_tests (docs/fab.md): the FAB's tests per direction, each with its samples' CSV.
+void read_fab_tests(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problems& problems) {
+  const auto [key, node] = YamlChecker::find(doc, "fab_tests");
+  if (!node.IsDefined()) return;
+  if (!node.IsMap()) {
+    y.problem(key, "fab_tests", "expected a mapping of source and directions, got " + YamlChecker::kind(node));
+    return;
+  }
+  for (const auto& kv : node) {
+    const std::string name = kv.first.Scalar();
+    const std::string field = "fab_tests." + name;
+    if (name == "source") {
+      if (!y.check_map(kv.second, field, k_fab_source_keys)) continue;
+      FabSource src;
+      if (YamlChecker::find(kv.second, "file").second.IsDefined()) {
+        const auto file = read_file_ref(y, kv.second, field, fabric.folder);
+        if (file) src.file = *file;
+      }
+      src.serial = whole_number(y, kv.second, "serial", field);
+      src.hardware_version = whole_number(y, kv.second, "hardware_version", field);
+      src.build = whole_number(y, kv.second, "build", field);
+      fabric.fab_source = src;
+      continue;
+    }
+    const auto dir = parse_direction(name);
+    if (!dir) {
+      std::string hint = closest_match(name, {"source", "weft", "bias", "warp"});
+      hint = hint.empty() ? "" : " (did you mean '" + hint + "'?)";
+      y.problem(kv.first, field, "unknown key" + hint + "; expected source, weft, bias or warp");
+      continue;
+    }
+    if (!kv.second.IsMap()) {
+      y.problem(kv.first, field, "expected a mapping of FAB tests (S1, S2, U1, D1, D2), got " + YamlChecker::kind(kv.second));
+      continue;
+    }
+    auto& tests = fabric.fab_tests[*dir];
+    for (const auto& tkv : kv.second) {
+      const std::string tname = tkv.first.Scalar();
+      const std::string tfield = field + "." + tname;
+      const FabTestName* spec = find_fab_test(tname);
+      if (!spec) {
+        y.problem(tkv.first, tfield, "unknown FAB test; expected S1, S2, U1, D1 or D2");
+        continue;
+      }
+      if (std::any_of(tests.begin(), tests.end(), [&](const FabTest& t) { return t.name == tname; })) {
+        y.problem(tkv.first, tfield, "duplicate test");
+        continue;
+      }
+      if (!y.check_map(tkv.second, tfield, k_fab_test_keys)) continue;
+      FabTest t;
+      t.name = tname;
+      t.kind = spec->kind;
+      const auto distance = y.number(tkv.second, "clamp_distance_mm", tfield, true, true);
+      const auto width = y.number(tkv.second, "strip_width_mm", tfield, true, true);
+      t.zero_offset = y.number(tkv.second, "zero_offset_N", tfield, false, false);
+      if (const auto hz = whole_number(y, tkv.second, "sampling_hz", tfield)) t.sampling_hz = static_cast<int>(*hz);
+      t.test_version = whole_number(y, tkv.second, "test_version", tfield);
+      y.text(tkv.second, "time_utc", tfield, false);
+      const auto file = read_file_ref(y, tkv.second, tfield, fabric.folder);
+      if (!file || !distance || !width) continue;
+      const auto table = read_csv(*file, CsvOptions{}, problems);
+      if (!table) continue;
+      auto branches = read_fab_test_curve(*table, problems);
+      if (!branches) continue;
+      t.file = *file;
+      t.clamp_distance = *distance * k_mm;
+      t.strip_width = *width * k_mm;
+      t.branches = std::move(*branches);
+      tests.push_back(std::move(t));
+    }
+    // Protocol order, whatever the file's.
+    std::sort(tests.begin(), tests.end(), [](const FabTest& a, const FabTest& b) {
+      return find_fab_test(a.name) < find_fab_test(b.name);
+    });
+  }
+}
+
 nlohmann::json to_json(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Map: {
@@ -517,6 +609,7 @@ FabricLoad load_fabric(const fs::path& folder) {
   if (fabric.pattern && fabric.pattern->knit) fabric.pattern->knit->gauge = fabric.knitting_gauge;
   read_stretch_tests(y, doc, fabric, load.problems);
   read_bending_tests(y, doc, fabric, load.problems);
+  read_fab_tests(y, doc, fabric, load.problems);
   if (const auto gt = YamlChecker::find(doc, "ground_truth"); gt.second.IsDefined()) {
     if (!gt.second.IsMap() && !gt.second.IsNull())
       y.problem(gt.first, "ground_truth", "expected a mapping of parameter names to values");

@@ -36,6 +36,9 @@ FabricLoad load_fabric(const std::filesystem::path& folder);
 // compression; or clamp_distance_mm and aspect_ratio. Extra columns are ignored.
 std::optional<StretchCurve> read_stretch_curve(const CsvTable& table, Problems& problems);
 std::optional<BendingCurve> read_bending_curve(const CsvTable& table, Problems& problems);
+// A FAB test's samples (fab_tests): cycle, branch (loading or relaxation), clamp_distance_mm,
+// raw_force_N; consecutive rows of one cycle and branch make one branch.
+std::optional<std::vector<FabBranchCurve>> read_fab_test_curve(const CsvTable& table, Problems& problems);
 
 // Fewest data rows a curve may have: one point defines no curve.
 inline constexpr std::size_t k_min_curve_points = 2;

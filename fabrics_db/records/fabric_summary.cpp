@@ -46,6 +46,29 @@ json describe_bending_test(const BendingTest& t) {
           {"aspect_ratio", range_of(t.curve.aspect_ratio)}};
 }
 
+json describe_fab_test(const FabTest& t) {
+  int cycles = 0;
+  std::size_t samples = 0;
+  double nearest = t.clamp_distance, farthest = t.clamp_distance;
+  for (const auto& b : t.branches) {
+    cycles = std::max(cycles, b.cycle);
+    samples += b.clamp_distance.size();
+    for (const double d : b.clamp_distance) {
+      nearest = std::min(nearest, d);
+      farthest = std::max(farthest, d);
+    }
+  }
+  return {{"file", t.file.string()},
+          {"kind", std::string(to_string(t.kind))},
+          {"clamp_distance_m", t.clamp_distance},
+          {"strip_width_m", t.strip_width},
+          {"cycles", cycles},
+          {"branches", t.branches.size()},
+          {"samples", samples},
+          {"travel_m", json::array({nearest, farthest})},
+          {"zero_offset_N", optional_number(t.zero_offset)}};
+}
+
 }  // namespace
 
 std::optional<double> stretch_at_line_force(const StretchTest& test, double line_force) {
@@ -99,6 +122,10 @@ json describe_fabric(const Fabric& fabric) {
   json bending = json::object();
   for (const auto& [dir, t] : fabric.bending_tests) bending[std::string(to_string(dir))] = describe_bending_test(t);
 
+  json fab = json::object();
+  for (const auto& [dir, tests] : fabric.fab_tests)
+    for (const auto& t : tests) fab[std::string(to_string(dir))][t.name] = describe_fab_test(t);
+
   json j{{"id", fabric.id},
          {"family", fabric.family},
          {"description", fabric.description},
@@ -108,6 +135,7 @@ json describe_fabric(const Fabric& fabric) {
          {"swatch", fabric.swatch ? describe_swatch(*fabric.swatch) : json(nullptr)},
          {"stretch_tests", stretch},
          {"bending_tests", bending},
+         {"fab_tests", fab},
          {"ground_truth", fabric.ground_truth}};
   if (fabric.pattern && !fabric.pattern->has_tile() && fabric.pattern->knit) {
     const KnitSpec& k = *fabric.pattern->knit;
