@@ -129,6 +129,13 @@ struct FabArgs {
   bool quiet = false;
 };
 
+// A name from a stranger's file, with control characters shown as '?' (no terminal escapes).
+std::string printable(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return text;
+}
+
 int run_import_fab(const FabArgs& a) {
   db::FabImportOptions o;
   o.input = a.input;
@@ -155,7 +162,7 @@ int run_import_fab(const FabArgs& a) {
       for (const auto& t : ts) branches += t.branches.size();
     }
     std::cout << "wrote " << o.output.string() << ": " << tests << " FAB tests (" << branches
-              << " branches) from " << m.label << (m.name.empty() ? "" : " (" + m.name + ")") << "\n"
+              << " branches) from " << m.label << (m.name.empty() ? "" : " (" + printable(m.name) + ")") << "\n"
               << "  mass per area " << db::format_g(m.mass_per_area * 1e3, 4) << " g/m², thickness "
               << (m.thickness ? db::format_g(*m.thickness * 1e3, 3) + " mm" : "not given") << "\n";
     for (const auto& [d, ts] : m.tests) {

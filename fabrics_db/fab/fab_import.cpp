@@ -5,6 +5,10 @@
 #include <cctype>
 #include <chrono>
 #include <ctime>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
 #include <random>
 
 #include <yaml-cpp/yaml.h>
@@ -184,8 +188,24 @@ StretchCurve fab_stretch_curve(const FabTest& test, int& dropped) {
   return c;
 }
 
-FabImportResult import_fab(const FabImportOptions& o) {
+bool valid_record_id(const std::string& id) {
+  return !id.empty() && std::all_of(id.begin(), id.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.';
+  });
+}
+
+// Moves the staged folder into place unless something took the name meanwhile.
+void rename_no_replace(const fs::path& from, const fs::path& to) {
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) != 0)
+    throw std::runtime_error(std::string("cannot move the record into place: ") + std::strerror(errno));
+}
+
+FabImportResult import_fab(const FabImportOptions& options) {
   FabImportResult r;
+  FabImportOptions o = options;
+  // "dir/new/" names the folder "new".
+  o.output = o.output.lexically_normal();
+  if (!o.output.empty() && !o.output.has_filename()) o.output = o.output.parent_path();
   r.problems = o.problems();
   std::error_code ec;
   if (!o.output.empty() && fs::exists(fs::symlink_status(o.output, ec)))
@@ -227,7 +247,13 @@ FabImportResult import_fab(const FabImportOptions& o) {
   if (!r.problems.empty()) return r;
 
   const std::string id = !o.id.empty() ? o.id : o.output.filename().string();
-  const std::string family = !o.family.empty() ? o.family : !m.category.empty() ? lower_id(m.category) : "fab";
+  if (!valid_record_id(id)) {
+    r.problems.add_field("id", "'" + id + "' is not a record id (letters, digits, '-', '_' and '.'): " +
+                                   (o.id.empty() ? "the folder's name is the default; give --id" : "choose another"));
+    return r;
+  }
+  std::string family = !o.family.empty() ? o.family : lower_id(m.category);
+  if (family.empty()) family = "fab";
   const std::string tile_name = o.tile ? "tile.pyp" : "";
   const fs::path stage = staging_folder(o.output);
   try {
@@ -254,7 +280,7 @@ FabImportResult import_fab(const FabImportOptions& o) {
       fs::remove_all(stage, ec);
       return r;
     }
-    fs::rename(stage, o.output);
+    rename_no_replace(stage, o.output);
   } catch (const std::exception& e) {
     fs::remove_all(stage, ec);
     r.problems.add(o.output.string(), 0, "file", e.what());

@@ -22,6 +22,13 @@ constexpr double k_gsm = 1e-3;
 constexpr double k_slack_fraction = 0.005;  // a sample 0.5 % below the taut length is slack
 constexpr std::uintmax_t k_max_file_bytes = 64u << 20;
 
+// "[json.exception.out_of_range.406] number overflow …" → "number overflow …".
+std::string plain(std::string what) {
+  if (const auto at = what.find("] "); what.rfind("[json.exception", 0) == 0 && at != std::string::npos)
+    what = what.substr(at + 2);
+  return what;
+}
+
 // The JSON path of a syntax error: a SAX pass that keeps the keys and indices on the way.
 class PathTracker : public json::json_sax_t {
  public:
@@ -29,7 +36,13 @@ class PathTracker : public json::json_sax_t {
   bool boolean(bool) override { return value(); }
   bool number_integer(number_integer_t) override { return value(); }
   bool number_unsigned(number_unsigned_t) override { return value(); }
-  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool number_float(number_float_t v, const string_t& text) override {
+    if (std::isfinite(v)) return value();
+    value();
+    m_message = "number out of range: " + text.substr(0, 40);
+    m_at_value = true;
+    return false;
+  }
   bool string(string_t&) override { return value(); }
   bool binary(binary_t&) override { return value(); }
   bool start_object(std::size_t) override {
@@ -56,18 +69,23 @@ class PathTracker : public json::json_sax_t {
   }
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
     m_position = position;
-    m_message = e.what();
+    m_message = plain(e.what());
+    if (const auto at = m_message.find("syntax error"); at != std::string::npos) m_message = m_message.substr(at);
     // The failing value's place: the next element of an array, the current key of an object.
     if (!m_frames.empty() && m_frames.back().array) ++m_frames.back().index;
     return false;
   }
   [[nodiscard]] std::string path() const {
     std::string p;
-    for (const auto& f : m_frames) p += "/" + (f.array ? std::to_string(std::max(f.index, 0)) : f.key);
+    for (const auto& f : m_frames) {
+      p += "/" + (f.array ? std::to_string(std::max(f.index, 0)) : f.key.substr(0, 40));
+      if (p.size() > 200) return p.substr(0, 200) + "…";
+    }
     return p.empty() ? "/" : p;
   }
   std::size_t m_position = 0;
   std::string m_message;
+  bool m_at_value = false;  // stopped at a value it refused (not at a syntax error)
 
  private:
   struct Frame {
@@ -91,19 +109,39 @@ int line_at(std::string_view text, std::size_t position) {
 std::optional<json> parse_json(std::string_view text, const std::string& label, Problems& problems) {
   try {
     return json::parse(text.begin(), text.end());
-  } catch (const json::parse_error&) {
+  } catch (const json::exception& e) {
+    // Again, keeping the keys and indices on the way, to say where (a number too large for a
+    // double is not a syntax error: the DOM parser throws out_of_range for it).
     PathTracker t;
-    json::sax_parse(text.begin(), text.end(), &t);
-    std::string why = t.m_message;
-    if (const auto at = why.find("syntax error"); at != std::string::npos) why = why.substr(at);
+    try {
+      json::sax_parse(text.begin(), text.end(), &t);
+    } catch (const json::exception& inner) {
+      if (t.m_message.empty()) t.m_message = plain(inner.what());
+    }
+    std::string why = t.m_message.empty() ? plain(e.what()) : t.m_message;
+    // A bare NaN or Infinity stops the lexer at its first letter ("last read: '… [N'").
+    const auto read = why.find("last read: '");
+    const char last = read != std::string::npos && why.find('\'', read + 12) != std::string::npos
+                          ? why[why.find('\'', read + 12) - 1]
+                          : ' ';
+    const bool nan_like = why.find("invalid literal") != std::string::npos && (last == 'N' || last == 'I');
     problems.add(label, line_at(text, t.m_position), t.path(),
-                 "malformed JSON (" + why + "); numbers must be finite JSON numbers: NaN and Infinity are not JSON");
+                 "malformed JSON (" + why + ")" +
+                     (nan_like ? "; a bare NaN or Infinity is not JSON: numbers must be finite JSON numbers" : ""));
     return std::nullopt;
   }
 }
 
 std::string describe(const json& v) {
-  if (v.is_string()) return "text \"" + v.get<std::string>().substr(0, 40) + "\"";
+  if (v.is_string()) {
+    std::string t = v.get<std::string>();
+    if (t.size() > 40) {
+      std::size_t cut = 40;
+      while (cut > 0 && (static_cast<unsigned char>(t[cut]) & 0xC0) == 0x80) --cut;  // not inside a character
+      t = t.substr(0, cut) + "…";
+    }
+    return "text \"" + t + "\"";
+  }
   if (v.is_null()) return "null";
   if (v.is_boolean()) return "a boolean";
   if (v.is_array()) return "a list";
@@ -165,6 +203,12 @@ class RawReader {
     }
     if (!it->is_number_integer()) {
       problem(path + "/" + key, "expected a whole number, got " + describe(*it));
+      return std::nullopt;
+    }
+    // Beyond ±9e15 a whole number does not survive a double (the record keeps it as one).
+    if (it->is_number_unsigned() ? it->get<unsigned long long>() > 9'000'000'000'000'000ULL
+                                 : std::llabs(it->get<long long>()) > 9'000'000'000'000'000LL) {
+      problem(path + "/" + key, "whole number out of range: " + it->dump());
       return std::nullopt;
     }
     return it->get<long long>();
@@ -258,11 +302,17 @@ std::optional<FabTest> read_test(RawReader& r, const json& grain, const FabTestN
   const auto length = r.number(*t, "length", p, true);
   const auto width = r.number(*t, "width", p, true);
   const auto freq = r.integer(*t, "freq", p, true);
-  if (freq && *freq <= 0) r.problem(p + "/freq", "must be positive, got " + std::to_string(*freq));
+  if (freq && (*freq <= 0 || *freq > 1'000'000))
+    r.problem(p + "/freq", "a sampling rate of 1 to 1,000,000 Hz expected, got " + std::to_string(*freq));
   const auto serial = r.integer(*t, "hwSerialNumber", p, true);
   const auto hw = r.integer(*t, "hwVersion", p, true);
   test.test_version = r.integer(*t, "testVersion", p, true);
   test.time = r.integer(*t, "time", p, true);
+  // Seconds since 1970: from then to 2100.
+  if (test.time && (*test.time < 0 || *test.time > 4'102'444'800LL)) {
+    r.problem(p + "/time", "a time between 1970 and 2100 (seconds since 1970) expected, got " + std::to_string(*test.time));
+    test.time.reset();
+  }
   test.branches = r.branches(*t, p, true);
   if (!length || !width || test.branches.empty()) return std::nullopt;
   // The protocol's clamp distances are 2 and 8 cm; a length far from its test's is a mislabel.
@@ -271,7 +321,7 @@ std::optional<FabTest> read_test(RawReader& r, const json& grain, const FabTestN
                                  format_g(spec.nominal_distance / k_cm) + " cm)");
   test.clamp_distance = *length * k_cm;
   test.strip_width = *width * k_cm;
-  if (freq && *freq > 0) test.sampling_hz = static_cast<int>(*freq);
+  if (freq && *freq > 0 && *freq <= 1'000'000) test.sampling_hz = static_cast<int>(*freq);
   if (serial && !m.serial) m.serial = serial;
   if (hw && !m.hardware_version) m.hardware_version = hw;
   if (const auto z = estimate_zero_offset(test)) {
@@ -356,7 +406,7 @@ FabRead parse_fab_physics(std::string_view text, const std::string& label) {
     return out;
   }
   if (const auto s = doc->find("schema"); s != doc->end() && !(s->is_string() && s->get<std::string>() == "1.1"))
-    problems.add(label, 0, "/schema", "expected \"1.1\" (U3M 1.1 physics), got " + s->dump());
+    problems.add(label, 0, "/schema", "expected \"1.1\" (U3M 1.1 physics), got " + describe(*s));
   const auto raw = doc->find("raw_data");
   if (raw == doc->end() || raw->is_null()) {
     problems.add(label, 0, "/raw_data",
@@ -467,6 +517,10 @@ FabRead read_fab_file(const fs::path& file) {
   FabRead out;
   const std::string label = file.string();
   std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {  // not a folder, a FIFO or a device read without end
+    out.problems.add(label, 0, "file", fs::exists(file, ec) ? "not a regular file" : "no such file");
+    return out;
+  }
   if (const auto size = fs::file_size(file, ec); !ec && size > k_max_file_bytes) {
     out.problems.add(label, 0, "file", "larger than " + std::to_string(k_max_file_bytes >> 20) + " MiB");
     return out;
@@ -492,8 +546,12 @@ FabRead read_fab_file(const fs::path& file) {
     const std::string mlabel = label + "!" + materials.front();
     const auto physics = named_physics(files->at(materials.front()), mlabel, out.problems);
     if (!physics) return out;
-    const auto it = files->find(fs::path(*physics).lexically_normal().generic_string());
-    if (it == files->end() || physics->find("..") != std::string::npos) {
+    const fs::path wanted = fs::path(*physics).lexically_normal();
+    auto it = files->end();
+    if (wanted.is_relative() && !wanted.empty() && *wanted.begin() != "..")
+      for (auto f = files->begin(); f != files->end(); ++f)
+        if (fs::path(f->first).lexically_normal() == wanted) it = f;
+    if (it == files->end()) {
       out.problems.add(mlabel, 0, "/material/physics/devices/fab", "'" + *physics + "' is not a file of the archive");
       return out;
     }
@@ -508,7 +566,13 @@ FabRead read_fab_file(const fs::path& file) {
       out.problems.add(label, 0, "/material/physics/devices/fab", inside_why);
       return out;
     }
-    return read_fab_file(p);
+    // The named file is the physics itself (never another material: no chains, no loops).
+    std::string physics_text;
+    if (!fs::is_regular_file(p, ec) || !read_text_file(p, physics_text, why)) {
+      out.problems.add(p.string(), 0, "file", why.empty() ? "not a regular file" : why);
+      return out;
+    }
+    return parse_fab_physics(physics_text, p.string());
   }
   return parse_fab_physics(text, label);
 }

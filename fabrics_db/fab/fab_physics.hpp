@@ -3,7 +3,7 @@
 // (`raw_data`: grains L, W, B with tests S1, S2, U1, D1, D2, mass per area M, thickness
 // test T), a `.u3m` material that names one under material.physics.devices.fab, or a
 // `.u3ma` archive holding both. Units are converted to SI (cm → m, grams-force → N, g/m² →
-// kg/m², mm → m); the grains map to yarnfit's directions (length → warp, width → weft, bias
+// kg/m²; the thickness test's cm → m); the grains map to yarnfit's directions (length → warp, width → weft, bias
 // → bias). Every problem names the file and the JSON path (`/raw_data/L/S2/samplesTree/3`);
 // the vendor's `custom` block is read leniently (numbers there come either as numbers or as
 // text).

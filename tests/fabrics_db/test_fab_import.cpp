@@ -212,6 +212,10 @@ TEST(FabImport, RefusesEachBrokenFileNamingItsJsonPath) {
       {"a wrong schema", [](json& j) { j["schema"] = "1.0"; }, "/schema"},
       {"a 2 cm distance on an 8 cm test", [](json& j) { j["raw_data"]["W"]["S2"]["length"] = 2.1; },
        "/raw_data/W/S2/length"},
+      {"a serial beyond a double's whole numbers", [](json& j) { j["raw_data"]["L"]["S1"]["hwSerialNumber"] = 18446744073709551615ULL; },
+       "/raw_data/L/S1/hwSerialNumber"},
+      {"a sampling rate past int", [](json& j) { j["raw_data"]["L"]["U1"]["freq"] = 3000000000LL; }, "/raw_data/L/U1/freq"},
+      {"a time after 2100", [](json& j) { j["raw_data"]["B"]["D1"]["time"] = 1000000000000000LL; }, "/raw_data/B/D1/time"},
   };
   for (const auto& c : cases) {
     ScratchDir dir("fab");
@@ -242,6 +246,38 @@ TEST(FabImport, NamesThePathAndLineOfANaN) {
   EXPECT_TRUE(contains(p, "/raw_data/L/S2/samplesTree/0/0")) << p;
   EXPECT_TRUE(contains(p, "NaN")) << p;
   EXPECT_FALSE(fs::exists(dir / "record"));
+}
+
+TEST(FabImport, NamesTheSyntaxOfAnOverflowAndAnyDepth) {
+  ScratchDir dir("fab");
+  std::string text = synthetic_physics().dump();
+  text.replace(text.find("\"M\":120.0"), 9, "\"M\":1e309");
+  write_file(dir / "big.json", text);
+  auto r = db::import_fab(options(dir / "big.json", dir / "record"));
+  EXPECT_FALSE(r.written);
+  EXPECT_TRUE(contains(r.problems.to_string(), "/raw_data/M: malformed JSON (number overflow parsing '1e309')"))
+      << r.problems.to_string();
+  // A schema nested a hundred thousand deep: refused in a line, without recursing through it.
+  write_file(dir / "deep.json", "{\"schema\":" + std::string(100000, '[') + std::string(100000, ']') + "}");
+  r = db::import_fab(options(dir / "deep.json", dir / "record"));
+  EXPECT_FALSE(r.written);
+  EXPECT_TRUE(contains(r.problems.to_string(), "/schema: expected \"1.1\" (U3M 1.1 physics), got a list"))
+      << r.problems.to_string().substr(0, 300);
+  EXPECT_FALSE(fs::exists(dir / "record"));
+}
+
+TEST(FabImport, DefaultsItsIdAndFamilyOrSaysWhy) {
+  ScratchDir dir("fab");
+  json j = synthetic_physics();
+  j["custom"]["browzwear"]["category"] = "ニット";  // no letter an id may use: the family falls back
+  write_file(dir / "p.json", j.dump());
+  auto r = db::import_fab(options(dir / "p.json", dir / "knit/"));
+  ASSERT_TRUE(r.written) << r.problems.to_string();
+  EXPECT_EQ(db::load_fabric(dir / "knit").fabric->family, "fab");
+  r = db::import_fab(options(dir / "p.json", dir / "My Fabric"));
+  EXPECT_FALSE(r.written);
+  EXPECT_TRUE(contains(r.problems.to_string(), "id: 'My Fabric' is not a record id")) << r.problems.to_string();
+  EXPECT_FALSE(fs::exists(dir / "My Fabric"));
 }
 
 // A .u3m names its physics file; a .u3ma holds both.
@@ -291,6 +327,15 @@ TEST(FabImport, ReadsAU3mAndAU3maNamingThePhysics) {
   const auto c = db::read_fab_file(dir / "m/out.u3m");
   EXPECT_FALSE(c.measurement);
   EXPECT_TRUE(contains(c.problems.to_string(), "/material/physics/devices/fab")) << c.problems.to_string();
+  // A material naming itself is read as physics once, not followed round.
+  json self = material;
+  self["material"]["physics"]["devices"]["fab"] = "self.u3m";
+  write_file(dir / "m/self.u3m", self.dump());
+  const auto e = db::read_fab_file(dir / "m/self.u3m");
+  EXPECT_FALSE(e.measurement);
+  EXPECT_TRUE(contains(e.problems.to_string(), "/raw_data: missing")) << e.problems.to_string();
+  // A folder is not a file.
+  EXPECT_TRUE(contains(db::read_fab_file(dir / "m").problems.to_string(), "not a regular file"));
 }
 
 TEST(FabImport, TheRecordReaderChecksFabTests) {
