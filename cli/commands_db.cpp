@@ -22,6 +22,13 @@ void print_problems(const Problems& problems) {
   for (const auto& p : problems.items()) std::cerr << p.to_string() << "\n";
 }
 
+// An import's problems on stderr, and "nothing written" when it wrote nothing; returns `written`.
+bool say_problems(const Problems& problems, bool written) {
+  print_problems(problems);
+  if (!written) std::cerr << "nothing written\n";
+  return written;
+}
+
 void print_notes(const DatabaseLoad& db) {
   for (const auto& n : db.notes) std::cerr << "note: " << n << "\n";
 }
@@ -106,11 +113,7 @@ int run_import(const ImportArgs& a) {
   o.overwrite = a.force;
 
   const auto r = db::import_tensile(o);
-  print_problems(r.problems);
-  if (!r.written) {
-    std::cerr << "nothing written\n";
-    return k_exit_invalid_input;
-  }
+  if (!say_problems(r.problems, r.written)) return k_exit_invalid_input;
   if (!a.quiet) {
     std::cout << "wrote " << o.output.string() << ": " << r.rows_written << " rows";
     if (r.rows_dropped > 0) std::cout << " (" << r.rows_dropped << " dropped outside the loading branch)";
@@ -149,11 +152,7 @@ int run_import_fab(const FabArgs& a) {
   if (a.stitch_length_mm != 0.0) o.stitch_length_mm = a.stitch_length_mm;
   if (a.yarn_radius_mm != 0.0) o.yarn_radius_mm = a.yarn_radius_mm;
   const auto r = db::import_fab(o);
-  print_problems(r.problems);
-  if (!r.written) {
-    std::cerr << "nothing written\n";
-    return k_exit_invalid_input;
-  }
+  if (!say_problems(r.problems, r.written)) return k_exit_invalid_input;
   if (!a.quiet) {
     const auto& m = *r.measurement;
     std::size_t tests = 0, branches = 0;

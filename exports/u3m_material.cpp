@@ -33,12 +33,7 @@ std::string uuid4() {
 }
 
 std::string utc_now() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char s[32];
-  std::strftime(s, sizeof s, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return s;
+  return db::format_utc(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now()));
 }
 
 // Lower case without separators: "Single-Jersey" and "single_jersey" compare alike.

@@ -30,6 +30,8 @@ bool valid_utf8(std::string_view s, std::size_t* bad_at = nullptr);
 // the name is not such a file.
 std::filesystem::path file_inside_folder(const std::filesystem::path& folder, const std::string& name,
                                          std::string& why);
+// ISO 8601 UTC time of `seconds` since 1970: "2020-01-27T12:35:50Z".
+std::string format_utc(long long seconds);
 // printf-style "%.<digits>g" of a double.
 std::string format_g(double value, int digits = 6);
 // The shortest text that reads back as exactly `value`: 0.1, not 0.10000000000000001.

@@ -22,15 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double k_mm = 1e-3;
 
-std::string utc_text(long long seconds) {
-  const std::time_t t = static_cast<std::time_t>(seconds);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 std::string lower_id(const std::string& text) {
   std::string id;
   for (const char c : text) {
@@ -68,7 +59,7 @@ std::string description(const FabMeasurement& m, const fs::path& input) {
   for (const auto& [dir, tests] : m.tests)
     for (const auto& t : tests)
       if (t.time && (first == 0 || *t.time < first)) first = *t.time;
-  if (first > 0) d += " on " + utc_text(first).substr(0, 10);
+  if (first > 0) d += " on " + format_utc(first).substr(0, 10);
   return d + "; imported by yarnfit db import-fab from " + input.filename().string();
 }
 
@@ -129,7 +120,7 @@ std::string record_yaml(const FabImportOptions& o, const FabMeasurement& m, cons
       if (t.zero_offset) y << YAML::Key << "zero_offset_N" << YAML::Value << format_shortest(*t.zero_offset);
       if (t.sampling_hz) y << YAML::Key << "sampling_hz" << YAML::Value << *t.sampling_hz;
       if (t.test_version) y << YAML::Key << "test_version" << YAML::Value << *t.test_version;
-      if (t.time) y << YAML::Key << "time_utc" << YAML::Value << utc_text(*t.time);
+      if (t.time) y << YAML::Key << "time_utc" << YAML::Value << format_utc(*t.time);
       y << YAML::EndMap;
     }
     y << YAML::EndMap;

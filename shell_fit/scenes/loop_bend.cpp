@@ -121,7 +121,8 @@ Eigen::VectorXd LoopBendScene::initial_state(double clamp_distance) const {
   return x;
 }
 
-LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<double>& clamp_distances) const {
+LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<double>& clamp_distances,
+                               std::vector<Eigen::VectorXd>* warm) const {
   const auto start = numerics::Clock::now();
   LoopBendRun out;
   const MembraneTerm membrane(m_mesh, params.inplane, k_dim);
@@ -141,7 +142,9 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
   NewtonOptions robust = NewtonOptions::for_shell();
   robust.max_iterations = 300;
   robust.tolerance = exact.tolerance;
-  for (const double d : clamp_distances) {
+  if (warm) warm->resize(clamp_distances.size());
+  for (std::size_t i = 0; i < clamp_distances.size(); ++i) {
+    const double d = clamp_distances[i];
     const auto t0 = numerics::Clock::now();
     LoopBendSample sample;
     sample.clamp_distance = d;
@@ -152,6 +155,15 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
       sample.message = e.what();
     }
     NewtonSummary summary;
+    if (warm && sample.message.empty() && (*warm)[i].size() == x.size()) {
+      Eigen::VectorXd trial = (*warm)[i];
+      summary = solve_static(terms, trial, m_fixed_dofs, exact);
+      sample.newton_iterations += summary.iterations;
+      if (summary.converged()) {
+        x = trial;
+        sample.converged = true;
+      }
+    }
     for (int attempt = 0; attempt < 3 && sample.message.empty() && !sample.converged; ++attempt) {
       Eigen::VectorXd trial = attempt == 1 ? initial_state(d) : x;
       summary = solve_static(terms, trial, m_fixed_dofs, attempt == 1 ? robust : exact);
@@ -165,6 +177,7 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
       // The clamp's reaction on the strip is +∂E/∂x; the strip's force on the load cell, along
       // the pull (+x from the stationary clamp), is its negative.
       sample.force = -clamp_force(terms, x, m_stationary, k_dim, 0);
+      if (warm && sample.converged) (*warm)[i] = x;
       for (const int v : m_centre_line)
         if (std::abs(x[k_dim * v + 2]) > std::abs(sample.height)) sample.height = x[k_dim * v + 2];
     }

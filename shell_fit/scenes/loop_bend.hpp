@@ -75,9 +75,12 @@ class LoopBendScene {
   // gravity, or odd cell counts.
   explicit LoopBendScene(const LoopBendSetup& setup);
 
-  // The loop at each clamp distance 0 < d < L, each from its own start. Failures are
+  // The loop at each clamp distance 0 < d < L, each from its own start, or from `warm`'s
+  // state for that distance when one is given and Newton converges from it (a fit's next
+  // evaluation at nearby parameters); `warm` then receives the new equilibria. Failures are
   // reported per sample, never thrown.
-  [[nodiscard]] LoopBendRun run(const ShellParams& params, const std::vector<double>& clamp_distances) const;
+  [[nodiscard]] LoopBendRun run(const ShellParams& params, const std::vector<double>& clamp_distances,
+                                std::vector<Eigen::VectorXd>* warm = nullptr) const;
 
   // The start state at d: the buckling mode laid isometrically; throws std::invalid_argument
   // unless 0 < d < L.

@@ -1,0 +1,71 @@
+#pragma once
+// A shell model against a FAB record's own tests (issue 51; docs/fab.md): the stretch tests
+// predicted by the in-plane law through the clamped-strip scene at their short, wide gauges,
+// and the loop-method bends fitted for k_θ through the loop scene. Every loading branch of
+// every cycle is compared; the relaxation branches are hysteresis no elastic model follows.
+//
+// Stretch: the force against (reading − the test's zero offset) at the samples past the taut
+// length, the model run at a few stretches over that range and interpolated.
+// Bends: a bend's zero is not known from its data (docs/fab.md), so each test gets its own
+// offset, the mean of (reading − model): the fit pins k_θ by the curves' shapes and slopes,
+// not by their level. k_θ is found by golden-section search in log k_θ, one per direction.
+
+#include <string>
+#include <vector>
+
+#include "fabrics_db/records/fabric.hpp"
+#include "shell_fit/core/shell_params.hpp"
+
+namespace yarnfit::shell {
+
+// One FAB test against a model.
+struct FabTestError {
+  std::string test;  // S1, S2, U1, D1, D2
+  int samples = 0;   // loading-branch samples compared
+  // Σ|model − measured| / Σ|measured| over those samples [%], measured with its zero (or,
+  // for a bend, its fitted offset) removed.
+  double force_pct = 0.0;
+  double mean_abs_error = 0.0;  // [N]
+  double offset = 0.0;          // the offset taken off the readings [N]
+  bool converged = false;       // every simulated point converged
+  std::string message;
+};
+
+struct FabStretchOptions {
+  double target_edge = 5e-3;  // cell size of the strip's mesh [m]
+  int points = 8;             // stretches simulated over the loading branches' range
+};
+
+// The stretch test `test` of direction `dir` predicted by `params` (every loading branch).
+FabTestError predict_fab_stretch(const db::FabTest& test, db::Direction dir, const InplaneParams& params,
+                                 const FabStretchOptions& options = {});
+
+struct FabBendOptions {
+  int points = 6;                 // clamp distances simulated over each test's loading range
+  double ktheta_lower = 1e-9;     // search range of k_θ [N·m]
+  double ktheta_upper = 1e-3;
+  double tolerance = 2e-3;        // relative width of the final k_θ bracket
+  // The loop bends cylindrically, so it is simulated on a strip this fraction of its length
+  // wide and its force scaled to the strip's width.
+  double width_over_length = 0.1;
+};
+
+struct FabBendFit {
+  db::Direction direction = db::Direction::weft;
+  double ktheta = 0.0;  // [N·m]
+  bool converged = false;
+  bool on_bound = false;
+  std::vector<FabTestError> tests;  // U1, D1, D2 as the record has them
+  double force_pct = 0.0;           // over every bend sample of the direction
+  double mean_abs_error = 0.0;      // [N]
+  int evaluations = 0;
+  double seconds = 0.0;
+  std::string message;
+};
+
+// k_θ of direction `dir` from its loop bends (tests of kind up_bend / down_bend), the
+// in-plane law held.
+FabBendFit fit_fab_bends(const std::vector<db::FabTest>& tests, db::Direction dir, const InplaneParams& inplane,
+                         double areal_density, const FabBendOptions& options = {});
+
+}  // namespace yarnfit::shell
