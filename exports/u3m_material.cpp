@@ -153,6 +153,24 @@ void require_ok(archive* a, int status, const std::string& what) {
   if (status != ARCHIVE_OK) throw std::runtime_error("zip: " + what + ": " + archive_error_string(a));
 }
 
+// A fit made from a FAB record (issue 51) gives its measurement back: the record's physics
+// file's raw_data unchanged, and the vendor's own custom entries beside yarnfit's, so that a
+// U3M that went in comes out with its physics.
+void keep_fab_measurement(const FittedFabric& fabric, nlohmann::json& physics) {
+  if (!fabric.record_fabric || !fabric.record_fabric->fab_source || fabric.record_fabric->fab_source->file.empty())
+    return;
+  const auto& file = fabric.record_fabric->fab_source->file;
+  std::string text, why;
+  if (!db::read_text_file(file, text, why)) throw ExportError(file.string() + ": " + why);
+  const auto source = nlohmann::json::parse(text, nullptr, false);
+  if (source.is_discarded() || !source.is_object() || !source.contains("raw_data"))
+    throw ExportError(file.string() + ": not the U3M physics file the record was imported from");
+  physics["raw_data"] = source["raw_data"];
+  if (const auto c = source.find("custom"); c != source.end() && c->is_object())
+    for (const auto& [key, value] : c->items())
+      if (key != "yarnfit") physics["custom"][key] = value;
+}
+
 }  // namespace
 
 std::string u3m_construction(const std::string& knit_or_family) {
@@ -184,6 +202,7 @@ U3mMaterial u3m_material(const FittedFabric& fabric) {
                   {"metadata", nullptr}}},
                 {"custom", nullptr}};
   u.physics = {{"schema", "1.1"}, {"raw_data", nullptr}, {"custom", {{"yarnfit", yarnfit_block(fabric)}}}};
+  keep_fab_measurement(fabric, u.physics);
   return u;
 }
 

@@ -134,5 +134,33 @@ with tempfile.TemporaryDirectory() as tmp:
     check(r.returncode == 2 and "not the folder of a fit" in r.stderr and not os.path.exists(os.path.join(tmp, "never.u3ma")),
           "a folder without a fit: exit 2 with the reason, nothing written")
 
+    # Issue 51's round trip: a FAB measurement imported, its shell law fitted, exported with
+    # its record: the physics file carries the measurement's raw_data unchanged (and the
+    # vendor's custom block) beside the fitted model, is valid U3M 1.1 physics, and imports again.
+    fab_in = os.path.join(source, "tests", "data", "fab", "cupro_physics.json")
+    record, fit = os.path.join(tmp, "cupro"), os.path.join(tmp, "cupro_fit")
+    r = subprocess.run([yarnfit, "db", "import-fab", fab_in, "--out", record, "--denier", "75", "-q"], capture_output=True, text=True)
+    check(r.returncode == 0, f"cupro: import ({r.stderr.strip()})")
+    r = subprocess.run([yarnfit, "shell", "fit", record, "--out", fit, "--quiet"], capture_output=True, text=True)
+    check(r.returncode == 0, f"cupro: shell fit ({r.stderr.strip()[-200:]})")
+    archive = os.path.join(tmp, "cupro.u3ma")
+    r = export(fit, archive, "--record", record)
+    check(r.returncode == 0, f"cupro: export with the record ({r.stderr.strip()})")
+    source_physics = json.load(open(fab_in))
+    with zipfile.ZipFile(archive) as z:
+        physics = json.loads(z.read("physics/physics.json"))
+    errors = schema_errors(physics, physics_schema)
+    check(not errors, f"cupro: the physics file with its measurement is valid U3M 1.1 physics {errors[:3]}")
+    check(physics["raw_data"] == source_physics["raw_data"], "cupro: raw_data comes out as it went in")
+    check(physics["custom"]["browzwear"] == source_physics["custom"]["browzwear"], "cupro: the vendor's custom block kept")
+    check("shell_law" in physics["custom"]["yarnfit"], "cupro: the fitted model beside it")
+    again = os.path.join(tmp, "cupro_again")
+    r = subprocess.run([yarnfit, "db", "import-fab", archive, "--out", again, "--denier", "75", "-q"], capture_output=True, text=True)
+    check(r.returncode == 0, f"cupro: the exported .u3ma imports again ({r.stderr.strip()})")
+    same = r.returncode == 0 and all(
+        open(os.path.join(record, "fab", f)).read() == open(os.path.join(again, "fab", f)).read()
+        for f in os.listdir(os.path.join(record, "fab")) if f.endswith(".csv"))
+    check(same, "cupro: every test's samples the same after the round trip")
+
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)
