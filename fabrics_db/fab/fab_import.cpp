@@ -33,6 +33,12 @@ std::string lower_id(const std::string& text) {
   return id;
 }
 
+// The grain's 8 cm stretch (S2), the test its stretch_tests curve comes from; null if absent.
+const FabTest* eight_cm_stretch(const std::vector<FabTest>& tests) {
+  const auto it = std::find_if(tests.begin(), tests.end(), [](const FabTest& t) { return t.name == "S2"; });
+  return it == tests.end() ? nullptr : &*it;
+}
+
 std::string test_csv(const FabTest& t) {
   std::string s = "cycle,branch,clamp_distance_mm,raw_force_N\n";
   for (const auto& b : t.branches)
@@ -95,7 +101,7 @@ std::string record_yaml(const FabImportOptions& o, const FabMeasurement& m, cons
   y << YAML::Key << "stretch_tests" << YAML::Value << YAML::BeginMap;
   for (const auto& [dir, file] : stretch_files) {
     const auto& tests = m.tests.at(dir);
-    const auto s2 = std::find_if(tests.begin(), tests.end(), [](const FabTest& t) { return t.name == "S2"; });
+    const FabTest* s2 = eight_cm_stretch(tests);
     y << YAML::Key << std::string(to_string(dir)) << YAML::Value << YAML::BeginMap;
     y << YAML::Key << "file" << YAML::Value << file;
     y << YAML::Key << "swatch" << YAML::Value;
@@ -221,8 +227,8 @@ FabImportResult import_fab(const FabImportOptions& options) {
   std::map<Direction, std::string> stretch_files;
   std::map<Direction, StretchCurve> curves;
   for (const auto& [dir, tests] : m.tests) {
-    const auto s2 = std::find_if(tests.begin(), tests.end(), [](const FabTest& t) { return t.name == "S2"; });
-    if (s2 == tests.end()) continue;
+    const FabTest* s2 = eight_cm_stretch(tests);
+    if (!s2) continue;
     int dropped = 0;
     auto c = fab_stretch_curve(*s2, dropped);
     r.stretch_points_dropped += dropped;
@@ -255,7 +261,7 @@ FabImportResult import_fab(const FabImportOptions& options) {
         write_text_file_atomically(stage / "fab" / (std::string(to_string(dir)) + "_" + t.name + ".csv"), test_csv(t));
     for (const auto& [dir, file] : stretch_files) {
       const auto& tests = m.tests.at(dir);
-      const auto s2 = std::find_if(tests.begin(), tests.end(), [](const FabTest& t) { return t.name == "S2"; });
+      const FabTest* s2 = eight_cm_stretch(tests);
       write_text_file_atomically(stage / file, stretch_csv(curves.at(dir), *s2));
     }
     if (o.tile) write_text_file_atomically(stage / tile_name, tile_text);
