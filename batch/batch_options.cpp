@@ -35,6 +35,7 @@ nlohmann::json fit_options_json(const pipeline::PipelineOptions& o) {
                 {"refinements", o.shell.refinements},
                 {"max_iterations", o.shell.max_iterations},
                 {"full_range", o.shell.full_range},
+                {"fab_held_out", o.shell.fab_held_out},
                 {"model", shell::to_string(o.shell.model)}};
   if (o.stages == pipeline::Stages::shell) return j;
   const auto& y = o.yarn;

@@ -162,6 +162,7 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
   add_fit_setting_options(*b, a->fit);
   b->add_option("--mesh", a->fit.mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
   add_shell_model_option(*b, a->fit.shell_model);
+  add_fab_held_out_option(*b, a->fit.fab_held_out);
   add_export_option(*b, a->fit.exports);
   b->add_flag("--no-report", a->no_report, "Do not write the HTML report DIR/report/ when the batch ends");
   b->add_flag("--retry-failed", a->retry_failed, "Run the fabrics that failed before again (same hash)");

@@ -66,6 +66,7 @@ void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code) {
   add_yarn_fit_options(*f, *fargs);
   f->add_option("--mesh", fargs->request.mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
   add_shell_model_option(*f, fargs->request.shell_model);
+  add_fab_held_out_option(*f, fargs->request.fab_held_out);
   f->add_flag("--no-report", fargs->no_report, "Do not write the one-fabric HTML report DIR/report/");
   add_export_option(*f, fargs->request.exports);
   f->callback([fargs, &exit_code] { exit_code = run_fit_command(*fargs); });

@@ -118,6 +118,7 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
   // Ranges are checked by the library (ShellFitOptions::problems), which names every problem.
   fit->add_option("--mesh", r.mesh_mm, "Mesh cell size [mm]")->capture_default_str();
   add_shell_model_option(*fit, r.shell_model);
+  add_fab_held_out_option(*fit, r.fab_held_out);
   fit->add_option("--refine", r.refinements, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
   fit->add_option("--threads", r.shell_threads, "Test directions simulated in parallel (1-64, default 2)");
   fit->add_option("--max-iterations", r.max_iterations,

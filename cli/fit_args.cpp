@@ -16,6 +16,14 @@ void add_shell_model_option(CLI::App& cmd, std::string& model) {
       ->capture_default_str();
 }
 
+void add_fab_held_out_option(CLI::App& cmd, std::vector<std::string>& tests) {
+  cmd.add_option("--fab-held-out", tests,
+                 "A FAB record's tests held out of the shell fit and predicted: exactly one of S1 and S2, and any "
+                 "of the bends U1, D1, D2 but not all three; comma-separated (docs/fab.md)")
+      ->delimiter(',')
+      ->capture_default_str();
+}
+
 void add_export_option(CLI::App& cmd, std::vector<std::string>& formats) {
   cmd.add_option("--export", formats,
                  "Also export the fitted fabric, into DIR/exports/: u3m (<id>.u3ma, U3M 1.1), arcsim (<id>_arcsim.json, "

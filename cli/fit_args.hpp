@@ -15,6 +15,8 @@ namespace yarnfit::cli {
 
 // --shell-model thesis|stiffening (`shell fit`, `fit`, `batch`).
 void add_shell_model_option(CLI::App& cmd, std::string& model);
+// --fab-held-out (pipeline::FitRequest::fab_held_out).
+void add_fab_held_out_option(CLI::App& cmd, std::vector<std::string>& tests);
 
 // --export u3m,arcsim,table (`fit`, `batch`): the formats written beside the fit's outputs.
 void add_export_option(CLI::App& cmd, std::vector<std::string>& formats);

@@ -29,6 +29,7 @@ std::string option_name(const std::string& field) {
       {"database", "DB"},
       {"stages", "--stages"},
       {"shell_model", "--shell-model"},
+      {"fab_held_out", "--fab-held-out"},
       {"budget", "--budget"},
       {"global_method", "--global"},
       {"local_method", "--local"},

@@ -15,6 +15,7 @@ shell::ShellFitOptions shell_options(const FitRequest& r, db::Problems& problems
   o.threads = r.shell_threads ? *r.shell_threads : r.threads > 0 ? r.threads : 2;
   o.max_iterations = r.max_iterations;
   o.full_range = r.full_range;
+  o.fab_held_out = r.fab_held_out;
   return o;
 }
 

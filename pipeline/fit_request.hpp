@@ -40,6 +40,7 @@ struct FitRequest {
   int max_iterations = shell::ShellFitOptions{}.max_iterations;
   bool full_range = false;
   std::string shell_model = shell::to_string(shell::ShellFitOptions{}.model);
+  std::vector<std::string> fab_held_out = shell::k_default_fab_held_out;  // a FAB record's tests predicted, not fitted
 
   // The yarn stage (calibration::YarnFitSettings): the budget's settings first
   // (calibration/fit/budget.hpp), then every number given here.

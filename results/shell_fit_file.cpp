@@ -150,6 +150,83 @@ json params_json(const std::map<std::string, std::optional<double>>& params) {
   return j;
 }
 
+namespace {
+
+json fab_json(const FabFitDetails& fab) {
+  json bends = json::array(), tests = json::array();
+  for (const auto& b : fab.bends)
+    bends.push_back({{"direction", b.direction},
+                     {"ktheta", b.ktheta},
+                     {"ktheta_range", {b.ktheta_low, b.ktheta_high}},
+                     {"force_pct", pct_json(b.force_pct)},
+                     {"converged", b.converged},
+                     {"on_bound", b.on_bound},
+                     {"evaluations", b.evaluations},
+                     {"timing_s", b.timing_s},
+                     {"message", b.message}});
+  for (const auto& t : fab.tests)
+    tests.push_back({{"direction", t.direction},
+                     {"test", t.test},
+                     {"held_out", t.held_out},
+                     {"samples", t.samples},
+                     {"force_pct", pct_json(t.force_pct)},
+                     {"first_cycles_force_pct", pct_json(t.first_cycles_force_pct)},
+                     {"mean_abs_error_N", pct_json(t.mean_abs_error_N)},
+                     {"offset_N", t.offset_N},
+                     {"spread_pct", pct_json(t.spread_pct)},
+                     {"hysteresis_pct", pct_json(t.hysteresis_pct)},
+                     {"converged", t.converged},
+                     {"message", t.message}});
+  return {{"held_out", fab.held_out}, {"bends", bends}, {"tests", tests}, {"timing_s", fab.timing_s}};
+}
+
+// The held-out tests' errors by direction and test, named as errors_by_direction names them.
+json held_out_json(const FabFitDetails& fab) {
+  json j = json::object();
+  for (const auto& t : fab.tests)
+    if (t.held_out)
+      j[t.direction][t.test] = {{t.test[0] == 'S' ? "stretch_force_pct" : "bending_force_pct", pct_json(t.force_pct)}};
+  return j;
+}
+
+FabFitDetails read_fab(const json& j, const Where& at) {
+  expect_object(j, at);
+  FabFitDetails fab;
+  fab.held_out = strings(j, "held_out", at);
+  fab.timing_s = number(j, "timing_s", at, k_nan);
+  if (const json* bends = member(j, "bends")) {
+    if (!bends->is_array()) (at / "bends").bad("an array");
+    for (std::size_t i = 0; i < bends->size(); ++i) {
+      const json& b = (*bends)[i];
+      const Where w = (at / "bends")[i];
+      expect_object(b, w);
+      const std::vector<double> range = numbers(b, "ktheta_range", w);
+      fab.bends.push_back({string(b, "direction", w, "?"), number(b, "ktheta", w, k_nan),
+                           range.size() == 2 ? range[0] : k_nan, range.size() == 2 ? range[1] : k_nan,
+                           number(b, "force_pct", w, k_nan),
+                           boolean(b, "converged", w, false), boolean(b, "on_bound", w, false),
+                           integer(b, "evaluations", w, 0), number(b, "timing_s", w, k_nan), string(b, "message", w)});
+    }
+  }
+  if (const json* tests = member(j, "tests")) {
+    if (!tests->is_array()) (at / "tests").bad("an array");
+    for (std::size_t i = 0; i < tests->size(); ++i) {
+      const json& t = (*tests)[i];
+      const Where w = (at / "tests")[i];
+      expect_object(t, w);
+      fab.tests.push_back({string(t, "direction", w, "?"), string(t, "test", w, "?"), boolean(t, "held_out", w, false),
+                           integer(t, "samples", w, 0), number(t, "force_pct", w, k_nan),
+                           number(t, "first_cycles_force_pct", w, k_nan), number(t, "mean_abs_error_N", w, k_nan),
+                           number(t, "offset_N", w, k_nan), number(t, "spread_pct", w, k_nan),
+                           number(t, "hysteresis_pct", w, k_nan), boolean(t, "converged", w, false),
+                           string(t, "message", w)});
+    }
+  }
+  return fab;
+}
+
+}  // namespace
+
 json to_json(const ShellFitFile& f) {
   json errors = json::object();
   for (const auto& [name, v] : named_errors(f.errors)) errors[name] = pct_json(v);
@@ -202,6 +279,10 @@ json to_json(const ShellFitFile& f) {
                     {"compression_measured", f.inplane->compression_measured},
                     {"errors_reason", string_or_null(f.inplane->errors_reason)}};
   if (f.bending) j["bending"] = bending_json(*f.bending);
+  if (f.fab) {
+    j["fab"] = fab_json(*f.fab);
+    j["held_out_errors_by_direction"] = held_out_json(*f.fab);
+  }
   return j;
 }
 
@@ -273,6 +354,7 @@ ShellFitFile shell_fit_file_from_json(const json& j, const std::string& source) 
   f.timing_s = number(j, "timing_s", at, k_nan);
   f.effects = string_lists(j, "effects", at);
   if (const json* b = member(j, "bending")) f.bending = read_bending(*b, at / "bending");
+  if (const json* fab = member(j, "fab")) f.fab = read_fab(*fab, at / "fab");
   // Version 1 did not store the per-direction errors: its readers computed them from the curves.
   f.errors_by_direction =
       f.schema_version >= 2 ? read_direction_errors(j, at) : shell_direction_errors(f.directions, f.bending);

@@ -100,6 +100,42 @@ struct ShellDirectionErrors {
   double bending_pct = 0.0;  // the aspect ratio of its pear-loop test
 };
 
+// One test of a FAB record against the fitted model (a FAB record's fit; docs/fab.md).
+struct FabTestResult {
+  std::string direction;
+  std::string test;        // S1, S2, U1, D1, D2
+  bool held_out = false;   // predicted, not fitted
+  int samples = 0;         // loading-branch samples compared
+  double force_pct = 0.0;  // over every loading branch [%]; NaN: no figure
+  double first_cycles_force_pct = 0.0;  // a stretch test's, within its first two cycles' range
+  double mean_abs_error_N = 0.0;
+  double offset_N = 0.0;        // taken off the readings: the zero (stretch) or the fitted offset (bend)
+  double spread_pct = 0.0;      // the measurement's loading branches apart where they overlap
+  double hysteresis_pct = 0.0;  // the measurement's: loop area over loading work
+  bool converged = false;
+  std::string message;
+};
+
+// The loop-bend fit of one direction's k_θ.
+struct FabBendResult {
+  std::string direction;
+  double ktheta = 0.0;  // [N·m]
+  double ktheta_low = 0.0, ktheta_high = 0.0;  // where the misfit doubles [N·m]
+  double force_pct = 0.0;
+  bool converged = false;
+  bool on_bound = false;
+  int evaluations = 0;
+  double timing_s = 0.0;
+  std::string message;
+};
+
+struct FabFitDetails {
+  std::vector<std::string> held_out;  // the tests predicted, not fitted
+  std::vector<FabBendResult> bends;
+  std::vector<FabTestResult> tests;
+  double timing_s = 0.0;
+};
+
 struct ShellFitFile {
   int schema_version = k_shell_fit_schema_version;  // as read; to_json writes the current one
   std::string fabric;
@@ -131,6 +167,7 @@ struct ShellFitFile {
   double timing_s = 0.0;  // both fits
   std::map<std::string, std::vector<std::string>> effects;  // scene → effects simulated
   std::optional<BendingDetails> bending;
+  std::optional<FabFitDetails> fab;  // a FAB record's fit (its `fab` block)
 
   // The direction's errors, all NaN when the file has none for it.
   [[nodiscard]] ShellDirectionErrors direction_errors(const std::string& direction) const;

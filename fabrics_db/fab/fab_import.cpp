@@ -13,6 +13,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "fabrics_db/fab/fab_curves.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 
@@ -49,7 +50,7 @@ std::string test_csv(const FabTest& t) {
 }
 
 std::string stretch_csv(const StretchCurve& c, const FabTest& t) {
-  std::string s = "# the " + t.name + " test's widest loading branch, from its taut length " +
+  std::string s = "# the " + t.name + " test's loading branches, their mean at each stretch, from its taut length " +
                   format_g(t.clamp_distance / k_mm) + " mm, zero offset " + format_g(t.zero_offset.value_or(0.0)) +
                   " N taken off (fab_tests keeps every sample)\nstretch,force_N\n";
   for (std::size_t i = 0; i < c.size(); ++i) s += format_shortest(c.stretch[i]) + "," + format_shortest(c.force[i]) + "\n";
@@ -158,31 +159,6 @@ Problems FabImportOptions::problems() const {
   if (stitch_length_mm && !(*stitch_length_mm > 0.0)) p.add_field("stitch-length-mm", "must be positive");
   if (yarn_radius_mm && !(*yarn_radius_mm > 0.0)) p.add_field("yarn-radius-mm", "must be positive");
   return p;
-}
-
-StretchCurve fab_stretch_curve(const FabTest& test, int& dropped) {
-  dropped = 0;
-  const FabBranchCurve* widest = nullptr;
-  for (const auto& b : test.branches)
-    if (b.branch == FabBranch::loading &&
-        (!widest || *std::max_element(b.clamp_distance.begin(), b.clamp_distance.end()) >
-                        *std::max_element(widest->clamp_distance.begin(), widest->clamp_distance.end())))
-      widest = &b;
-  StretchCurve c;
-  if (!widest) return c;
-  const double zero = test.zero_offset.value_or(0.0);
-  for (std::size_t i = 0; i < widest->clamp_distance.size(); ++i) {
-    const double s = widest->clamp_distance[i] / test.clamp_distance - 1.0;
-    if (s < 0.0) continue;  // slack: the strip takes no load yet
-    const double f = widest->raw_force[i] - zero;
-    if (f < 0.0 || (!c.stretch.empty() && s <= c.stretch.back())) {
-      ++dropped;
-      continue;
-    }
-    c.stretch.push_back(s);
-    c.force.push_back(f);
-  }
-  return c;
 }
 
 bool valid_record_id(const std::string& id) {

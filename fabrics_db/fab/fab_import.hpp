@@ -4,9 +4,10 @@
 // branches under `fab_tests` (fab/<direction>_<test>.csv, the load cell's readings in SI), the
 // physics file unchanged as fab/physics.json (provenance, and what a U3M export gives back),
 // mass per area and thickness; and, so that the fit can run on it now, each grain's 8 cm
-// stretch (S2) as a `stretch_tests` curve: its widest loading branch, from the strip's taut
-// length, the zero offset taken off. What the file does not say (the yarn's linear density, a
-// knit or a tile for a yarn stage) comes from the options. The record is built in a hidden
+// stretch (S2) as a `stretch_tests` curve: the mean of its loading branches
+// (fab_curves.hpp), from the strip's taut length, the zero offset taken off. What the file
+// does not say (the yarn's linear density, a knit or a tile for a yarn stage) comes from the
+// options. The record is built in a hidden
 // folder beside the destination and renamed into place: written whole or not at all.
 
 #include <filesystem>
@@ -41,10 +42,5 @@ struct FabImportResult {
 };
 
 FabImportResult import_fab(const FabImportOptions& options);
-
-// The stretch curve a FAB stretch test gives the fit: its widest loading branch from the taut
-// length on (s = d/length − 1 ≥ 0), the zero offset taken off; samples that do not advance the
-// stretch or read below zero are left out (counted in `dropped`).
-StretchCurve fab_stretch_curve(const FabTest& test, int& dropped);
 
 }  // namespace yarnfit::db

@@ -414,6 +414,31 @@ bool searched_parameter(const std::map<std::string, results::SearchBound>& bound
   return true;
 }
 
+// A FAB record's tests against the fitted shell model: fitted and held out apart, each against
+// every loading branch, beside what the measurement itself varies (docs/fab.md).
+void fab_table(std::ostringstream& h, const results::FabFitDetails& fab) {
+  constexpr double gf = 9.80665e-3;  // N
+  h << "<h4>FAB tests</h4><table><tr><th class=\"l\">direction</th><th class=\"l\">test</th><th class=\"l\">role</th>"
+       "<th>force error, every loading branch</th><th>within the first two cycles</th><th>mean |error| [gf]</th>"
+       "<th>cycles apart</th><th>hysteresis</th></tr>";
+  for (const char* dir : {"weft", "bias", "warp"})
+    for (const auto& t : fab.tests) {
+      if (t.direction != dir) continue;
+      h << "<tr><td class=\"l\">" << dir << "</td><td class=\"l\">" << escape(t.test) << "</td><td class=\"l\">"
+        << (t.held_out ? "held out, predicted" : "fitted") << "</td>" << pct_cell(t.force_pct)
+        << pct_cell(t.first_cycles_force_pct) << "<td>" << number_label(t.mean_abs_error_N / gf) << "</td>"
+        << pct_cell(t.spread_pct) << pct_cell(t.hysteresis_pct) << "</tr>";
+    }
+  h << "</table><p class=\"note\">Bends are compared with each test's zero as a free offset (a loop's zero cannot "
+       "be read from its data). The cycles' spread and the hysteresis are the measurement's own: an elastic model "
+       "follows neither.";
+  for (const auto& b : fab.bends)
+    h << " k<sub>θ</sub> " << escape(b.direction) << " " << number_label(b.ktheta) << " N·m from the loop bends (misfit doubled at "
+      << number_label(b.ktheta_low) << " and " << number_label(b.ktheta_high) << ")"
+      << (b.on_bound ? " (at its bound)" : "") << (b.converged ? "" : " (not converged: " + escape(b.message) + ")") << ".";
+  h << "</p>";
+}
+
 bool shell_parameter(const results::ShellFitFile& shell, const std::string& name, svg::BoundedValue& v) {
   return searched_parameter(shell.bounds, shell.at_bounds, name, v);
 }
@@ -609,6 +634,7 @@ void fabric_section(std::ostringstream& h, const FabricRow& r, std::size_t runs,
   h << "</tr></table>";
   if (r.has_end_to_end() && !r.outputs->yarn->measured->ok)
     h << "<p class=\"note\">End to end: " << escape(r.outputs->yarn->measured->message) << "</p>";
+  if (r.has_shell() && r.outputs->shell->fab) fab_table(h, *r.outputs->shell->fab);
   const double ar = r.metric("shell_aspect_ratio_pct");
   if (std::isfinite(ar)) h << "<p>Pear-loop aspect-ratio error " << number_label(ar) << " %.</p>";
   h << "<div class=\"plots\">";

@@ -55,6 +55,29 @@ std::string shell_summary(const results::ShellFitFile& report, double wall_secon
   return out.str();
 }
 
+namespace {
+
+// A FAB record's tests: k_θ from the loop bends, then each test, fitted or held out.
+void fab_summary(std::ostringstream& out, const results::FabFitDetails& fab) {
+  const auto pct_text = [](double v) { return std::isfinite(v) ? db::format_g(v, 3) + " %" : std::string("-"); };
+  for (const auto& b : fab.bends)
+    out << "  loop bends, " << b.direction << ": k_theta " << number_text(b.ktheta) << " N*m (misfit doubled at "
+        << number_text(b.ktheta_low) << " and " << number_text(b.ktheta_high) << "), force error "
+        << pct_text(b.force_pct) << (b.converged ? "" : " (NOT converged: " + b.message + ")")
+        << (b.on_bound ? " (WARNING: on its search bound)" : "") << ", " << b.evaluations << " evaluations, "
+        << number_text(b.timing_s, 3) << " s\n";
+  out << "  FAB tests against every loading branch (held out: " << db::join_words(fab.held_out, " and ") << "):\n";
+  for (const char* dir : {"weft", "bias", "warp"}) {
+    std::string line;
+    for (const auto& t : fab.tests)
+      if (t.direction == dir) line += "  " + t.test + (t.held_out ? "* " : " ") + pct_text(t.force_pct);
+    if (!line.empty()) out << "    " << dir << ":" << line << "\n";
+  }
+  out << "    (* held out and predicted; a bend's zero is a free offset)\n";
+}
+
+}  // namespace
+
 std::string shell_fit_report(const results::ShellFitFile& r) {
   std::ostringstream out;
   const results::InplaneDetails inplane = r.inplane.value_or(results::InplaneDetails{r.timing_s, {}, {}, true, ""});
@@ -88,6 +111,7 @@ std::string shell_fit_report(const results::ShellFitFile& r) {
     for (const auto& s : b.fallback_starts) out << "  WARNING: " << s << "\n";
     for (const auto& s : b.at_bounds) out << "  WARNING: " << s << " ended on a search bound\n";
   }
+  if (r.fab) fab_summary(out, *r.fab);
   return out.str();
 }
 

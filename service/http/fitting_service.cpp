@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
 
+#include "fabrics_db/fab/fab_import.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "service/accounts/accounts.hpp"
@@ -206,12 +207,19 @@ struct FittingService::Impl {
     return body;
   }
 
+  // A fabric record, uploaded as an archive of its folder, or (?format=fab) a FAB measurement
+  // as the FAB wrote it: a U3M 1.1 physics JSON, imported as `yarnfit db import-fab` imports
+  // it, with ?denier= (required) and ?id=, ?family= (docs/service.md).
   void upload(const Account& who, const httplib::Request& req, const httplib::ContentReader& reader,
               httplib::Response& res) {
+    const std::string format = req.get_param_value("format");
+    if (!format.empty() && format != "fab" && format != "archive")
+      return refuse(res, 400, "format: '" + format + "' is not an upload format (archive, the default, or fab)");
     const std::optional<std::string> body = upload_body(req, reader, res);
     if (!body) return;
     std::random_device rd;
     const fs::path staging = data / "uploads" / (who.name + "-" + std::to_string(rd()) + std::to_string(rd()));
+    if (format == "fab") return upload_fab(who, req, *body, staging, res);
     const UnpackedUpload unpacked = unpacker.unpack(*body, staging);
     if (!unpacked.ok && unpacked.refusal.status >= 500) {
       // The server's own trouble (its disk, its helper): said in its log, not to the client,
@@ -221,12 +229,73 @@ struct FittingService::Impl {
       return refuse(res, 500, "the server cannot store the upload now; try again later");
     }
     if (!unpacked.ok) return refuse(res, unpacked.refusal.status, unpacked.refusal.message);
+    place_record(who, staging, staging, unpacked.files, res);
+  }
+
+  // A FAB physics file imported into staging/record; the staging folder goes either way.
+  void upload_fab(const Account& who, const httplib::Request& req, const std::string& body, const fs::path& staging,
+                  httplib::Response& res) {
     std::error_code ec;
-    const db::FabricLoad load = db::load_fabric(staging);
+    const auto cleanup = [&] { fs::remove_all(staging, ec); };
+    db::FabImportOptions o;
+    o.input = staging / "physics.json";
+    o.output = staging / "record";
+    o.id = req.get_param_value("id");
+    o.family = req.get_param_value("family");
+    if (o.id.empty()) return refuse(res, 422, "id: give the fabric's id (?id=NAME; A-Z a-z 0-9 . _ -)");
+    if (!usable_id(o.id)) return refuse(res, 422, "id: '" + o.id + "' cannot name a folder (A-Z a-z 0-9 . _ -)");
+    const std::string denier = req.get_param_value("denier");
+    if (denier.empty())
+      return refuse(res, 422, "denier: give the yarn's linear density (?denier=D): the FAB does not measure it");
+    try {
+      std::size_t used = 0;
+      o.denier = std::stod(denier, &used);
+      if (used != denier.size()) throw std::invalid_argument(denier);
+    } catch (const std::exception&) {
+      return refuse(res, 422, "denier: '" + denier + "' is not a number");
+    }
+    bool stored = fs::create_directories(staging, ec);
+    try {
+      if (stored) db::write_text_file_atomically(o.input, body);
+    } catch (const std::exception&) {
+      stored = false;
+    }
+    if (!stored) {
+      cleanup();
+      std::fprintf(stderr, "yarnfit serve: a FAB upload of %s could not be stored in %s\n", who.name.c_str(),
+                   staging.c_str());
+      return refuse(res, 500, "the server cannot store the upload now; try again later");
+    }
+    db::FabImportResult imported;
+    try {
+      imported = db::import_fab(o);
+    } catch (const std::exception& e) {
+      cleanup();
+      std::fprintf(stderr, "yarnfit serve: a FAB upload of %s could not be imported: %s\n", who.name.c_str(), e.what());
+      return refuse(res, 500, "the server cannot store the upload now; try again later");
+    }
+    if (!imported.written) {
+      json problems = json::array();
+      for (auto p : imported.problems.items()) {
+        if (p.file == o.input.string()) p.file = "the upload";  // the server's folder is not the client's concern
+        problems.push_back(p.to_string());
+      }
+      cleanup();
+      return refuse(res, 422, "the FAB file cannot be imported", problems);
+    }
+    place_record(who, o.output, staging, {"physics.json"}, res);
+  }
+
+  // Validates the record in `folder` (inside `staging`) and renames it into the user's fabrics
+  // unless one of its id is there; `staging` is removed either way.
+  void place_record(const Account& who, const fs::path& folder, const fs::path& staging,
+                    const std::vector<std::string>& files, httplib::Response& res) {
+    std::error_code ec;
+    const db::FabricLoad load = db::load_fabric(folder);
     if (!load.ok()) {
       json problems = json::array();
       for (auto p : load.problems.items()) {
-        p.file = fs::relative(p.file, staging, ec).generic_string();  // as the user's folder names it
+        p.file = fs::relative(p.file, folder, ec).generic_string();  // as the user's folder names it
         problems.push_back(p.to_string());
       }
       fs::remove_all(staging, ec);
@@ -239,11 +308,12 @@ struct FittingService::Impl {
     const fs::path home = data / "fabrics" / who.name;
     fs::create_directories(home, ec);
     const fs::path target = home / load.fabric->id;
-    if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, target.c_str(), RENAME_NOREPLACE) != 0) {
+    if (::renameat2(AT_FDCWD, folder.c_str(), AT_FDCWD, target.c_str(), RENAME_NOREPLACE) != 0) {
       fs::remove_all(staging, ec);
       return refuse(res, 409, "a fabric with id '" + load.fabric->id + "' exists");
     }
-    reply(res, 201, {{"id", load.fabric->id}, {"family", load.fabric->family}, {"files", unpacked.files}});
+    fs::remove_all(staging, ec);
+    reply(res, 201, {{"id", load.fabric->id}, {"family", load.fabric->family}, {"files", files}});
   }
 
   void start_fit(const Account& who, const httplib::Request& req, httplib::Response& res) {

@@ -79,6 +79,7 @@ const std::map<std::string, Field>& fields() {
       {"max_iterations", plain(&R::max_iterations)},
       {"seed", plain(&R::seed)},
       {"full_range", plain(&R::full_range)},
+      {"fab_held_out", names(&R::fab_held_out)},
       {"no_swarm", plain(&R::no_swarm)},
       {"linear_stretch", plain(&R::linear_stretch)},
       {"no_rest_shape", plain(&R::no_rest_shape)},

@@ -7,8 +7,8 @@
 //
 // Fields: stages ("shell" or "all"), budget, global_method, local_method, particles,
 // iterations, samples, local_samples, local_evaluations, starts, seed, shell_model,
-// max_iterations, full_range, no_swarm, linear_stretch, no_rest_shape, no_profile, report
-// (default true).
+// max_iterations, full_range, fab_held_out (a list of FAB test names), no_swarm,
+// linear_stretch, no_rest_shape, no_profile, report (default true).
 // An unknown field, a value of the wrong type or a name the fit cannot use is a problem
 // naming the field; the stages' own ranges are checked as `fit`'s are. A fit asked by a
 // stranger must also end in a time the server can give it: the sizes of the search are

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/clock.hpp"
 
 namespace yarnfit::shell {
 
@@ -17,14 +18,54 @@ db::Problems ShellFitOptions::problems() const {
   if (threads < 1 || threads > 64) say("threads", "must be 1 to 64 (got " + std::to_string(threads) + ")");
   if (max_iterations < 1 || max_iterations > 1000)
     say("max_iterations", "must be 1 to 1000 (got " + std::to_string(max_iterations) + ")");
+  check_fab_held_out(fab_held_out, "fab_held_out", out);
+  const FabBendOptions& b = fab_bends;
+  if (!(b.ktheta_lower > 0.0 && b.ktheta_upper > b.ktheta_lower && std::isfinite(b.ktheta_upper)))
+    say("fab_bends.ktheta_lower", "the k_θ search range must be 0 < lower < upper (got " + db::format_g(b.ktheta_lower) +
+                                      " to " + db::format_g(b.ktheta_upper) + ")");
+  if (b.scan_points < 3 || b.max_evaluations <= b.scan_points)
+    say("fab_bends.scan_points", "must be at least 3 and below max_evaluations");
+  if (!(b.tolerance > 0.0) || b.points < 2 || !(b.width_over_length > 0.0))
+    say("fab_bends", "tolerance and width_over_length must be positive, points at least 2");
   return out;
 }
 
 std::string ShellFitResult::failure() const {
   if (!inplane.converged) return "shell fit did not converge: " + inplane.message;
   if (bending && !bending->converged) return "bending fit did not converge: " + bending->message;
+  if (fab)
+    for (const auto& b : fab->bends)
+      if (!b.converged) return "loop-bend fit (" + std::string(db::to_string(b.direction)) + ") did not converge: " + b.message;
   return {};
 }
+
+namespace {
+
+// A FAB record's bends (k_θ, unless pear-loop tests gave it) and every test against the model.
+void fit_fab_tests(const db::Fabric& fabric, const ShellFitOptions& options, ShellFitResult& result) {
+  const auto start = numerics::Clock::now();
+  FabRecordFit fab;
+  fab.held_out = options.fab_held_out;
+  if (!result.has_bending_tests) {
+    fab.bends =
+        fit_fab_record_bends(fabric, result.params.inplane, options.fab_held_out, options.threads, options.fab_bends);
+    for (const auto& b : fab.bends) {
+      const auto k = static_cast<std::size_t>(b.direction);
+      result.params.bending.ktheta[k] = b.ktheta;
+      double kappa = 0.0;
+      for (const auto& t : b.tests) kappa = std::max(kappa, t.max_curvature);
+      if (kappa > 0.0) result.ranges.max_curvature[k] = kappa;
+    }
+    for (const auto& b : fab.bends)
+      if (!b.effects.empty()) result.effects["loop_bend"] = b.effects;
+  }
+  fab.tests = fab_test_figures(fabric, result.params, fab.bends, options.fab_held_out, options.threads);
+  fab.seconds = numerics::seconds_since(start);
+  result.seconds += fab.seconds;
+  result.fab = std::move(fab);
+}
+
+}  // namespace
 
 ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& options) {
   if (const auto problems = options.problems(); !problems.empty())
@@ -33,6 +74,9 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
   result.fabric_id = fabric.id;
   result.family = fabric.family;
   result.has_bending_tests = !fabric.bending_tests.empty();
+  // A FAB record: the in-plane fit sees the stretch test it fits, not the one held out.
+  const bool fab = !fabric.fab_tests.empty();
+  const db::Fabric fab_view = fab ? fab_fit_view(fabric, options.fab_held_out) : db::Fabric{};
 
   InplaneFitOptions inplane;
   inplane.target_edge = options.mesh;
@@ -42,7 +86,7 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
   inplane.model = options.model;
   if (options.full_range) inplane.max_line_force = std::numeric_limits<double>::infinity();
   inplane.progress = options.progress;
-  result.inplane = fit_inplane(fabric, inplane);
+  result.inplane = fit_inplane(fab ? fab_view : fabric, inplane);
   result.effects["stretch"] = result.inplane.effects;
   result.seconds = result.inplane.seconds;
 
@@ -69,6 +113,7 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
     result.effects["pear_loop"] = result.bending->effects;
     result.seconds += result.bending->seconds;
   }
+  if (fab && (result.inplane.converged || result.inplane.hit_iteration_cap)) fit_fab_tests(fabric, options, result);
   result.targets = db::as_stored(generate_uniform_targets(result.params, result.ranges));
   return result;
 }

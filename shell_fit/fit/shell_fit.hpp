@@ -10,6 +10,7 @@
 //   const shell::ShellFitResult r = shell::fit_shell(fabric, options);
 //   db::write_uniform_targets_csv(r.targets, dir / "uniform_targets.csv");
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <map>
@@ -26,6 +27,7 @@
 #include "results/shell_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
+#include "shell_fit/fit/fab_record_fit.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 
@@ -40,6 +42,10 @@ struct ShellFitOptions {
   bool full_range = false;
   // The in-plane law fitted (InplaneFitOptions::model; README "Choosing the shell model").
   InplaneModel model = InplaneFitOptions{}.model;
+  // A FAB record's tests held out of the fit and predicted (fab_record_fit.hpp): exactly one
+  // of S1 and S2, and any bends but not all three.
+  std::vector<std::string> fab_held_out = k_default_fab_held_out;
+  FabBendOptions fab_bends;  // the loop-bend fit of k_θ (library callers only)
   // Progress of both fits; seconds count from the start of the stage.
   reports::ProgressFn progress;
 
@@ -54,6 +60,9 @@ struct ShellFitResult {
   InplaneFitResult inplane;
   // Set when the fabric has bending tests and the in-plane fit converged.
   std::optional<BendingFitResult> bending;
+  // A FAB record's: k_θ from its loop bends (when it has no pear-loop test and the in-plane
+  // fit is usable) and every test against the fitted model.
+  std::optional<FabRecordFit> fab;
   ShellParams params;   // the fitted model (k_θ zero when not fitted)
   TargetRanges ranges;  // stretch and curvature ranges the targets cover
   // The uniform targets of the fitted model as uniform_targets.csv stores them
@@ -65,11 +74,14 @@ struct ShellFitResult {
   double seconds = 0.0;  // the fits (the in-plane fit's time plus the bending fit's)
 
   // The in-plane fit converged, and the bending fit too when it ran.
-  [[nodiscard]] bool converged() const { return inplane.converged && (!bending || bending->converged); }
+  [[nodiscard]] bool converged() const { return inplane.converged && (!bending || bending->converged) && fab_bends_converged(); }
+  [[nodiscard]] bool fab_bends_converged() const {
+    return !fab || std::all_of(fab->bends.begin(), fab->bends.end(), [](const FabBendFit& b) { return b.converged; });
+  }
   // Converged, or the in-plane fit stopped at its iteration cap at an evaluated point (its
   // errors are those reached, and the JSON says so): later stages may use the model.
   [[nodiscard]] bool usable() const {
-    return (inplane.converged || inplane.hit_iteration_cap) && (!bending || bending->converged);
+    return (inplane.converged || inplane.hit_iteration_cap) && (!bending || bending->converged) && fab_bends_converged();
   }
   // Why not converged ("" when converged): "shell fit did not converge: …" or "bending fit …".
   [[nodiscard]] std::string failure() const;

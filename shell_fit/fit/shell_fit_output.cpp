@@ -2,8 +2,10 @@
 // fit's figures and details, the bending fit's, and the per-direction errors, computed here once.
 #include "shell_fit/fit/shell_fit.hpp"
 
+#include <cmath>
 #include <limits>
 
+#include "fabrics_db/text_util.hpp"
 #include "results/metrics/error_metrics.hpp"
 
 namespace yarnfit::shell {
@@ -28,6 +30,56 @@ void add_bounds(const std::map<std::string, std::pair<double, double>>& bounds,
 
 void append(std::vector<std::string>& to, const std::vector<std::string>& more) {
   to.insert(to.end(), more.begin(), more.end());
+}
+
+// The loop bends' k_θ as the fitted bending parameters.
+void add_fab_bends(const FabRecordFit& fab, results::ShellFitFile& f) {
+  double sum = 0.0;
+  int n = 0;
+  std::vector<std::string> fitted;
+  for (const auto& b : fab.bends) {
+    const auto k = static_cast<std::size_t>(b.direction);
+    f.params[k_bending_names[k]] = b.ktheta;
+    fitted.push_back(k_bending_names[k]);
+    if (b.on_bound) f.at_bounds.push_back(k_bending_names[k]);
+    if (b.ktheta_high > 2.0 * b.ktheta_low)
+      f.weakly_identified.push_back(std::string(k_bending_names[k]) + ": the loop bends fit within twice the best misfit from " +
+                                    db::format_g(b.ktheta_low, 2) + " to " + db::format_g(b.ktheta_high, 2) +
+                                    " N*m (each test's zero free)");
+    if (std::isfinite(b.force_pct)) sum += b.force_pct, ++n;
+  }
+  std::string names;
+  for (const auto& name : fitted) names += (names.empty() ? "" : ", ") + name;
+  f.identified.push_back(names + ": from the FAB's loop-method bends (force against clamp distance)");
+  f.errors.bending_pct = n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Every FAB test against the model, and the fitted tests' figures in errors_by_direction.
+void add_fab_tests(const FabRecordFit& fab, results::ShellFitFile& f) {
+  results::FabFitDetails details;
+  details.held_out = fab.held_out;
+  details.timing_s = fab.seconds;
+  for (const auto& b : fab.bends)
+    details.bends.push_back({std::string(db::to_string(b.direction)), b.ktheta, b.ktheta_low, b.ktheta_high, b.force_pct,
+                             b.converged, b.on_bound,
+                             b.evaluations, b.seconds, b.message});
+  for (const auto& t : fab.tests) {
+    const std::string dir(db::to_string(t.direction));
+    const FabTestError& e = t.error;
+    details.tests.push_back({dir, e.test, t.held_out, e.samples, e.force_pct, e.first_cycles_force_pct, e.mean_abs_error,
+                             e.offset, t.cycles.spread_pct, t.cycles.hysteresis_pct, e.converged, e.message});
+  }
+  // The fitted stretch test against every measured loading branch, and the fitted bends'
+  // force error, stand for the direction; the held-out tests stand apart.
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto entry = [&f](const std::string& dir) -> results::ShellDirectionErrors& {
+    return f.errors_by_direction.try_emplace(dir, results::ShellDirectionErrors{nan, nan, nan}).first->second;
+  };
+  for (const auto& b : fab.bends) entry(std::string(db::to_string(b.direction))).bending_pct = b.force_pct;
+  for (const auto& t : details.tests)
+    if (!t.held_out && t.test[0] == 'S') entry(t.direction).stretch_force_pct = t.force_pct;
+  f.timing_s += fab.seconds;
+  f.fab = std::move(details);
 }
 
 }  // namespace
@@ -74,8 +126,11 @@ results::ShellFitFile to_file(const ShellFitResult& r) {
   f.effects = r.effects;
 
   std::string bending_reason;
-  if (!r.has_bending_tests) {
+  const bool fab_bends = r.fab && !r.fab->bends.empty();
+  if (!r.has_bending_tests && !fab_bends) {
     f.not_identified.push_back("ktheta_weft, ktheta_bias, ktheta_warp: no bending test (not fitted)");
+  } else if (fab_bends) {
+    add_fab_bends(*r.fab, f);
   } else if (!r.bending) {
     bending_reason = "bending not fitted: the in-plane fit did not converge";
   } else {
@@ -98,6 +153,7 @@ results::ShellFitFile to_file(const ShellFitResult& r) {
   // One line for every null figure: the in-plane fit's reason first.
   if (!bending_reason.empty()) f.errors_reason = fit.errors_reason.empty() ? bending_reason : fit.errors_reason + "; " + bending_reason;
   f.errors_by_direction = results::shell_direction_errors(f.directions, f.bending);
+  if (r.fab) add_fab_tests(*r.fab, f);
   return f;
 }
 

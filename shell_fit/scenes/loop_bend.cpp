@@ -180,6 +180,8 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
       if (warm && sample.converged) (*warm)[i] = x;
       for (const int v : m_centre_line)
         if (std::abs(x[k_dim * v + 2]) > std::abs(sample.height)) sample.height = x[k_dim * v + 2];
+      for (int e = 0; e < static_cast<int>(bending.edges().size()); ++e)
+        sample.max_curvature = std::max(sample.max_curvature, std::abs(bending.curvature(x, e)));
     }
     sample.seconds = numerics::seconds_since(t0);
     if (out.message.empty() && !sample.converged) out.message = sample.message;

@@ -54,6 +54,7 @@ struct LoopBendSample {
   double clamp_distance = 0.0;  // d [m]
   double force = 0.0;           // along the pull on the stationary clamp, tension positive [N]
   double height = 0.0;          // the loop's farthest centre-line point from the clamps' level [m]
+  double max_curvature = 0.0;   // the largest |κ| of any edge [1/m]: the range of the uniform targets
   bool converged = false;
   std::string message;
   int newton_iterations = 0;

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fabrics_db/fab/fab_curves.hpp"
 #include "fabrics_db/fab/fab_import.hpp"
 #include "fabrics_db/fab/fab_physics.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"

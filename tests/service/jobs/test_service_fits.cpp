@@ -259,6 +259,58 @@ TEST_F(ServedFits, AFitIsFollowedOnItsEventStreamAndItsResultsAndReportsDownload
   EXPECT_TRUE(contains(metrics->body, "yarnfit_http_request_seconds_bucket{route=\"/api/v1/fabrics\",le=\"+Inf\"}"));
 }
 
+// A FAB measurement uploaded as the FAB wrote it (issue 51): imported, shell-fitted with two
+// bends held out (the service's fab_held_out), its tests in shell_fit.json and in the report.
+TEST_F(ServedFits, AFabFileUploadedAsItIsIsImportedFittedAndReported) {
+  serve_fits();
+  auto ana = as(m_ana);
+  const std::string physics = read_file(fs::path(YARNFIT_SOURCE_DIR) / "tests/data/fab/cupro_physics.json");
+  // Refused, and nothing kept: no id, no denier, a denier that is no number, a broken file.
+  const auto refused = [&](const std::string& query, const std::string& body, const std::string& says) {
+    const auto r = ana.Post("/api/v1/fabrics?format=fab" + query, body, "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 422) << r->body;
+    EXPECT_TRUE(contains(r->body, says)) << r->body;
+  };
+  refused("&denier=100", physics, "id: give the fabric's id");
+  refused("&id=cupro", physics, "denier: give the yarn's linear density");
+  refused("&id=cupro&denier=1e2x", physics, "'1e2x' is not a number");
+  refused("&id=../cupro&denier=100", physics, "cannot name a folder");
+  json broken = json::parse(physics);
+  broken["raw_data"]["W"].erase("S1");
+  refused("&id=cupro&denier=100", broken.dump(), "/raw_data/W/S1");
+  refused("&id=cupro&denier=100", physics.substr(0, physics.size() / 2), "the upload");
+  EXPECT_EQ(ana.Post("/api/v1/fabrics?format=tar", physics, "application/json")->status, 400);
+  EXPECT_TRUE(body_of(ana.Get("/api/v1/fabrics"))["fabrics"].empty());
+  EXPECT_TRUE(fs::is_empty(m_dir / "uploads"));
+
+  const auto up = ana.Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json");
+  ASSERT_EQ(up->status, 201) << up->body;
+  EXPECT_EQ(body_of(up)["family"], "weaves");
+  EXPECT_EQ(read_file(m_dir / "fabrics" / "ana" / "cupro" / "fab" / "physics.json"), physics);  // kept byte for byte
+  EXPECT_EQ(ana.Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json")->status, 409);
+  const json request = {{"stages", "shell"}, {"fab_held_out", {"S1", "U1", "D1"}}};
+  ASSERT_EQ(ana.Post("/api/v1/fabrics/cupro/fits", request.dump(), "application/json")->status, 202);
+  const json done = wait_for(ana, "cupro", ended, 900);
+  ASSERT_EQ(done["state"], "done") << done.dump();
+  const json shell = json::parse(ana.Get("/api/v1/jobs/cupro/files/shell_fit.json")->body);
+  EXPECT_EQ(shell["fab"]["held_out"], json::array({"S1", "U1", "D1"}));
+  EXPECT_EQ(shell["fab"]["tests"].size(), 15u);
+  for (const char* d : {"weft", "bias", "warp"}) {
+    // The fitted tests under errors_by_direction, the held-out ones apart.
+    EXPECT_TRUE(shell["errors_by_direction"][d]["stretch_force_pct"].is_number()) << d;
+    EXPECT_TRUE(shell["errors_by_direction"][d]["bending_pct"].is_number()) << d;
+    for (const char* t : {"S1", "U1", "D1"})
+      EXPECT_TRUE(shell["held_out_errors_by_direction"][d][t].is_object()) << d << " " << t;
+    EXPECT_FALSE(shell["held_out_errors_by_direction"][d].contains("S2")) << d;
+    EXPECT_GT(shell["params"][std::string("ktheta_") + d].get<double>(), 0.0) << d;
+  }
+  const auto report = ana.Get("/api/v1/jobs/cupro/report");
+  ASSERT_EQ(report->status, 200);
+  EXPECT_TRUE(contains(report->body, "FAB tests"));
+  EXPECT_TRUE(contains(report->body, "held out, predicted"));
+}
+
 TEST_F(ServedFits, BadFitRequestsNameTheFieldAndStartNothing) {
   serve_fits();
   const std::string id = upload(m_ana, "knit_a");

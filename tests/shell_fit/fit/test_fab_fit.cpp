@@ -95,7 +95,9 @@ TEST(FabFit, FindsAKnownKthetaFromBendsWithUnknownZeros) {
   o.ktheta_lower = 1e-6;
   o.ktheta_upper = 1e-5;
   o.tolerance = 4e-3;
-  const auto fit = fit_fab_bends(tests, db::Direction::weft, k_knit, rho, o);
+  std::vector<const db::FabTest*> fitted;
+  for (const auto& t : tests) fitted.push_back(&t);
+  const auto fit = fit_fab_bends(fitted, db::Direction::weft, k_knit, rho, o);
   ASSERT_TRUE(fit.converged) << fit.message;
   EXPECT_NEAR(fit.ktheta, kt, 0.02 * kt);
   ASSERT_EQ(fit.tests.size(), 3u);
