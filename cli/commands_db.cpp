@@ -172,7 +172,7 @@ int run_import_fab(const FabArgs& a) {
                   << ";";
       std::cout << "\n";
     }
-    std::cout << "  stretch_tests: each grain's S2, its widest loading branch"
+    std::cout << "  stretch_tests: each grain's S2, the mean of its loading branches"
               << (r.stretch_points_dropped > 0 ? " (" + std::to_string(r.stretch_points_dropped) +
                                                      " samples left out: not advancing or below zero)"
                                                : "")

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <ctime>
 #include <cerrno>
@@ -150,7 +151,7 @@ Problems FabImportOptions::problems() const {
   if (input.empty()) p.add_field("input", "no FAB file given");
   if (output.empty()) p.add_field("out", "no record folder given");
   if (!denier) p.add_field("denier", "required: the yarn's linear density (grams per 9,000 m); the FAB does not measure it");
-  else if (!(*denier > 0.0)) p.add_field("denier", "must be positive");
+  else if (!(*denier > 0.0 && std::isfinite(*denier))) p.add_field("denier", "must be a positive number");
   if (tile && !knit.empty()) p.add_field("tile", "give a tile or a knit, not both");
   if (!knit.empty() && (!stitch_length_mm || !yarn_radius_mm))
     p.add_field("knit", "needs --stitch-length-mm and --yarn-radius-mm");

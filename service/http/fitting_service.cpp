@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -215,11 +216,14 @@ struct FittingService::Impl {
     const std::string format = req.get_param_value("format");
     if (!format.empty() && format != "fab" && format != "archive")
       return refuse(res, 400, "format: '" + format + "' is not an upload format (archive, the default, or fab)");
+    // A FAB upload's words are checked before its body is read.
+    db::FabImportOptions fab;
+    if (format == "fab" && !fab_options(req, fab, res)) return;
     const std::optional<std::string> body = upload_body(req, reader, res);
     if (!body) return;
     std::random_device rd;
     const fs::path staging = data / "uploads" / (who.name + "-" + std::to_string(rd()) + std::to_string(rd()));
-    if (format == "fab") return upload_fab(who, req, *body, staging, res);
+    if (format == "fab") return upload_fab(who, fab, *body, staging, res);
     const UnpackedUpload unpacked = unpacker.unpack(*body, staging);
     if (!unpacked.ok && unpacked.refusal.status >= 500) {
       // The server's own trouble (its disk, its helper): said in its log, not to the client,
@@ -232,28 +236,32 @@ struct FittingService::Impl {
     place_record(who, staging, staging, unpacked.files, res);
   }
 
-  // A FAB physics file imported into staging/record; the staging folder goes either way.
-  void upload_fab(const Account& who, const httplib::Request& req, const std::string& body, const fs::path& staging,
-                  httplib::Response& res) {
-    std::error_code ec;
-    const auto cleanup = [&] { fs::remove_all(staging, ec); };
-    db::FabImportOptions o;
-    o.input = staging / "physics.json";
-    o.output = staging / "record";
+  // The import's options from the query (?id=, ?denier=, ?family=); false after a refusal.
+  static bool fab_options(const httplib::Request& req, db::FabImportOptions& o, httplib::Response& res) {
     o.id = req.get_param_value("id");
     o.family = req.get_param_value("family");
-    if (o.id.empty()) return refuse(res, 422, "id: give the fabric's id (?id=NAME; A-Z a-z 0-9 . _ -)");
-    if (!usable_id(o.id)) return refuse(res, 422, "id: '" + o.id + "' cannot name a folder (A-Z a-z 0-9 . _ -)");
+    if (o.id.empty()) return refuse(res, 422, "id: give the fabric's id (?id=NAME; A-Z a-z 0-9 . _ -)"), false;
+    if (!usable_id(o.id)) return refuse(res, 422, "id: '" + o.id + "' cannot name a folder (A-Z a-z 0-9 . _ -)"), false;
     const std::string denier = req.get_param_value("denier");
     if (denier.empty())
-      return refuse(res, 422, "denier: give the yarn's linear density (?denier=D): the FAB does not measure it");
+      return refuse(res, 422, "denier: give the yarn's linear density (?denier=D): the FAB does not measure it"), false;
     try {
       std::size_t used = 0;
       o.denier = std::stod(denier, &used);
-      if (used != denier.size()) throw std::invalid_argument(denier);
+      if (used != denier.size() || !std::isfinite(*o.denier) || !(*o.denier > 0.0)) throw std::invalid_argument(denier);
     } catch (const std::exception&) {
-      return refuse(res, 422, "denier: '" + denier + "' is not a number");
+      return refuse(res, 422, "denier: '" + denier + "' is not a positive number"), false;
     }
+    return true;
+  }
+
+  // A FAB physics file imported into staging/record; the staging folder goes either way.
+  void upload_fab(const Account& who, db::FabImportOptions o, const std::string& body, const fs::path& staging,
+                  httplib::Response& res) {
+    std::error_code ec;
+    const auto cleanup = [&] { fs::remove_all(staging, ec); };
+    o.input = staging / "physics.json";
+    o.output = staging / "record";
     bool stored = fs::create_directories(staging, ec);
     try {
       if (stored) db::write_text_file_atomically(o.input, body);
@@ -277,13 +285,19 @@ struct FittingService::Impl {
     if (!imported.written) {
       json problems = json::array();
       for (auto p : imported.problems.items()) {
-        if (p.file == o.input.string()) p.file = "the upload";  // the server's folder is not the client's concern
+        // The server's folders are not the client's concern.
+        if (p.file == o.input.string()) p.file = "the upload";
+        else if (!p.file.empty()) p.file = fs::path(p.file).lexically_relative(o.output).generic_string();
         problems.push_back(p.to_string());
       }
       cleanup();
       return refuse(res, 422, "the FAB file cannot be imported", problems);
     }
-    place_record(who, o.output, staging, {"physics.json"}, res);
+    std::vector<std::string> files;
+    for (const auto& e : fs::recursive_directory_iterator(o.output, ec))
+      if (e.is_regular_file()) files.push_back(fs::relative(e.path(), o.output, ec).generic_string());
+    std::sort(files.begin(), files.end());
+    place_record(who, o.output, staging, files, res);
   }
 
   // Validates the record in `folder` (inside `staging`) and renames it into the user's fabrics

@@ -177,7 +177,7 @@ FabTestError bend_error(const BendCase& c, const InplaneParams& inplane, double 
   e.converged = model_curve(c, inplane, ktheta, forces, e.message);
   e.first_cycles_force_pct = std::numeric_limits<double>::quiet_NaN();
   if (e.converged) score(c.samples, c.distances, forces, best_offset(c, forces), e);
-  else e.force_pct = e.mean_abs_error = std::numeric_limits<double>::quiet_NaN();
+  else e.force_pct = e.mean_abs_error = e.offset = std::numeric_limits<double>::quiet_NaN();
   e.max_curvature = c.max_curvature;
   return e;
 }
@@ -190,7 +190,7 @@ FabTestError predict_fab_bend(const db::FabTest& test, db::Direction dir, const 
   if (!c) {
     FabTestError e;
     e.test = test.name;
-    e.force_pct = e.first_cycles_force_pct = e.mean_abs_error = std::numeric_limits<double>::quiet_NaN();
+    e.force_pct = e.first_cycles_force_pct = e.mean_abs_error = e.offset = std::numeric_limits<double>::quiet_NaN();
     e.message = "no loading sample inside the strip's length";
     return e;
   }
@@ -242,17 +242,20 @@ FabBendFit fit_fab_bends(const std::vector<const db::FabTest*>& tests, db::Direc
   const auto best =
       numerics::brent_minimize(objective, from, to, options.tolerance, std::max(1, options.max_evaluations - scan));
   fit.evaluations = best.evaluations + scan;
+  // Brent's method never evaluates the scan's best point itself; keep it when it stays best.
+  const bool scan_best = misfit[at] < best.value;
+  const double best_x = scan_best ? grid[at] : best.x, best_value = scan_best ? misfit[at] : best.value;
   // How well the bends pin k_θ: where the misfit doubles on either side of the best, from the
   // scan's points beyond it, halved three times in log k_θ. With every zero free, a strip's
   // loops may fit about as well over a decade or more: a stiffer strip's level taken up by its
   // offsets.
-  const double doubled = 2.0 * std::min(best.value, misfit[at]);
+  const double doubled = 2.0 * best_value;
   const auto edge = [&](int step) {
     auto k = static_cast<std::ptrdiff_t>(at);
     const auto n = static_cast<std::ptrdiff_t>(grid.size());
     while (k + step >= 0 && k + step < n && misfit[static_cast<std::size_t>(k + step)] <= doubled) k += step;
     if (k + step < 0 || k + step >= n) return grid[static_cast<std::size_t>(k)];  // still under at the bound
-    double inside = k == static_cast<std::ptrdiff_t>(at) ? best.x : grid[static_cast<std::size_t>(k)];
+    double inside = k == static_cast<std::ptrdiff_t>(at) ? best_x : grid[static_cast<std::size_t>(k)];
     double outside = grid[static_cast<std::size_t>(k + step)];
     for (int halving = 0; halving < 3; ++halving) {
       const double mid = 0.5 * (inside + outside);
@@ -263,11 +266,12 @@ FabBendFit fit_fab_bends(const std::vector<const db::FabTest*>& tests, db::Direc
   };
   fit.ktheta_low = std::exp(edge(-1));
   fit.ktheta_high = std::exp(edge(+1));
-  fit.ktheta = std::exp(best.x);
-  fit.on_bound = best.x - lower < 2.0 * options.tolerance || upper - best.x < 2.0 * options.tolerance;
-  fit.converged = best.converged && std::isfinite(best.value);
-  if (!std::isfinite(best.value)) fit.message = "no k_θ in the search range gave every loop an equilibrium: " + failure;
-  else if (!best.converged) fit.message = "k_θ not settled within " + std::to_string(options.max_evaluations) + " evaluations";
+  fit.ktheta = std::exp(best_x);
+  fit.on_bound = best_x - lower < 2.0 * options.tolerance || upper - best_x < 2.0 * options.tolerance;
+  fit.converged = best.converged && std::isfinite(best_value);
+  if (!std::isfinite(best_value)) fit.message = "no k_θ in the search range gave every loop an equilibrium: " + failure;
+  else if (scan_best) fit.message = "the local search ended above the scan's best point: k_θ is that point, to a scan step";
+  else if (!fit.converged) fit.message = "k_θ not settled within " + std::to_string(options.max_evaluations) + " evaluations";
   // The errors at the fit.
   double diff = 0.0, size = 0.0;
   int n = 0;

@@ -1,6 +1,7 @@
 #include "shell_fit/fit/fab_record_fit.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace yarnfit::shell {
@@ -71,7 +72,8 @@ std::vector<FabBendFit> fit_fab_record_bends(const db::Fabric& fabric, const Inp
 
 std::vector<FabTestFigure> fab_test_figures(const db::Fabric& fabric, const ShellParams& params,
                                             const std::vector<FabBendFit>& bends,
-                                            const std::vector<std::string>& held_out, int threads) {
+                                            const std::vector<std::string>& held_out, int threads,
+                                            const FabStretchOptions& stretch, const FabBendOptions& bend) {
   std::vector<std::pair<db::Direction, const db::FabTest*>> tests;
   for (const auto& [dir, list] : fabric.fab_tests)
     for (const auto& t : list) tests.emplace_back(dir, &t);
@@ -84,16 +86,28 @@ std::vector<FabTestFigure> fab_test_figures(const db::Fabric& fabric, const Shel
     f.direction = dir;
     f.held_out = contains(held_out, t->name);
     if (t->kind == db::FabTestKind::stretch) {
-      f.error = predict_fab_stretch(*t, dir, params.inplane);
+      f.error = predict_fab_stretch(*t, dir, params.inplane, stretch);
     } else {
       const auto fit = std::find_if(bends.begin(), bends.end(), [dir](const FabBendFit& b) { return b.direction == dir; });
       const FabTestError* found = nullptr;
       if (!f.held_out && fit != bends.end())
         for (const auto& e : fit->tests)
           if (e.test == t->name) found = &e;
-      f.error = found ? *found : predict_fab_bend(*t, dir, params, rho);
+      if (found) {
+        f.error = *found;
+      } else if (params.bending.ktheta[static_cast<std::size_t>(dir)] > 0.0) {
+        f.error = predict_fab_bend(*t, dir, params, rho, bend);
+      } else {
+        f.error.test = t->name;
+        f.error.force_pct = f.error.first_cycles_force_pct = f.error.mean_abs_error = f.error.offset =
+            std::numeric_limits<double>::quiet_NaN();
+        f.error.message = "k_θ of this direction not fitted";
+      }
     }
-    f.cycles = db::fab_cycle_figures(*t, f.error.offset);
+    // The measurement's own figures about its zero; a bend's about the model's offset, or
+    // about no offset when the model failed.
+    f.cycles = db::fab_cycle_figures(*t, std::isfinite(f.error.offset) ? f.error.offset : 0.0);
+    if (!std::isfinite(f.error.offset)) f.cycles.spread_pct = f.cycles.hysteresis_pct = std::numeric_limits<double>::quiet_NaN();
   }
   return out;
 }

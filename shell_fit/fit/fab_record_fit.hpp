@@ -53,6 +53,8 @@ struct FabRecordFit {
 // errors as `bends` found them, the held-out bends predicted. Tests in parallel on `threads`.
 [[nodiscard]] std::vector<FabTestFigure> fab_test_figures(const db::Fabric& fabric, const ShellParams& params,
                                                           const std::vector<FabBendFit>& bends,
-                                                          const std::vector<std::string>& held_out, int threads);
+                                                          const std::vector<std::string>& held_out, int threads,
+                                                          const FabStretchOptions& stretch = {},
+                                                          const FabBendOptions& bend = {});
 
 }  // namespace yarnfit::shell

@@ -50,16 +50,21 @@ void fit_fab_tests(const db::Fabric& fabric, const ShellFitOptions& options, She
     fab.bends =
         fit_fab_record_bends(fabric, result.params.inplane, options.fab_held_out, options.threads, options.fab_bends);
     for (const auto& b : fab.bends) {
+      if (!(b.ktheta > 0.0) || b.tests.empty()) continue;  // no loop of this direction was fitted
       const auto k = static_cast<std::size_t>(b.direction);
       result.params.bending.ktheta[k] = b.ktheta;
       double kappa = 0.0;
-      for (const auto& t : b.tests) kappa = std::max(kappa, t.max_curvature);
+      for (const auto& t : b.tests)
+        if (t.converged) kappa = std::max(kappa, t.max_curvature);
       if (kappa > 0.0) result.ranges.max_curvature[k] = kappa;
     }
     for (const auto& b : fab.bends)
       if (!b.effects.empty()) result.effects["loop_bend"] = b.effects;
   }
-  fab.tests = fab_test_figures(fabric, result.params, fab.bends, options.fab_held_out, options.threads);
+  FabStretchOptions stretch;
+  stretch.target_edge = options.mesh;
+  fab.tests =
+      fab_test_figures(fabric, result.params, fab.bends, options.fab_held_out, options.threads, stretch, options.fab_bends);
   fab.seconds = numerics::seconds_since(start);
   result.seconds += fab.seconds;
   result.fab = std::move(fab);

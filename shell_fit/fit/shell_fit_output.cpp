@@ -39,6 +39,10 @@ void add_fab_bends(const FabRecordFit& fab, results::ShellFitFile& f) {
   std::vector<std::string> fitted;
   for (const auto& b : fab.bends) {
     const auto k = static_cast<std::size_t>(b.direction);
+    if (!(b.ktheta > 0.0) || b.tests.empty()) {
+      f.not_identified.push_back(std::string(k_bending_names[k]) + ": " + b.message);
+      continue;
+    }
     f.params[k_bending_names[k]] = b.ktheta;
     fitted.push_back(k_bending_names[k]);
     if (b.on_bound) f.at_bounds.push_back(k_bending_names[k]);
@@ -50,7 +54,7 @@ void add_fab_bends(const FabRecordFit& fab, results::ShellFitFile& f) {
   }
   std::string names;
   for (const auto& name : fitted) names += (names.empty() ? "" : ", ") + name;
-  f.identified.push_back(names + ": from the FAB's loop-method bends (force against clamp distance)");
+  if (!names.empty()) f.identified.push_back(names + ": from the FAB's loop-method bends (force against clamp distance)");
   f.errors.bending_pct = n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -77,7 +81,7 @@ void add_fab_tests(const FabRecordFit& fab, results::ShellFitFile& f) {
   };
   for (const auto& b : fab.bends) entry(std::string(db::to_string(b.direction))).bending_pct = b.force_pct;
   for (const auto& t : details.tests)
-    if (!t.held_out && t.test[0] == 'S') entry(t.direction).stretch_force_pct = t.force_pct;
+    if (!t.held_out && t.test[0] == 'S' && t.converged) entry(t.direction).stretch_force_pct = t.force_pct;
   f.timing_s += fab.seconds;
   f.fab = std::move(details);
 }

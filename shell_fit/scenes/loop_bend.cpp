@@ -177,11 +177,13 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
       // The clamp's reaction on the strip is +∂E/∂x; the strip's force on the load cell, along
       // the pull (+x from the stationary clamp), is its negative.
       sample.force = -clamp_force(terms, x, m_stationary, k_dim, 0);
-      if (warm && sample.converged) (*warm)[i] = x;
+      // A failed point seeds nothing: its state is of no equilibrium, nor of this k_θ's.
+      if (warm) (*warm)[i] = sample.converged ? x : Eigen::VectorXd();
       for (const int v : m_centre_line)
         if (std::abs(x[k_dim * v + 2]) > std::abs(sample.height)) sample.height = x[k_dim * v + 2];
-      for (int e = 0; e < static_cast<int>(bending.edges().size()); ++e)
-        sample.max_curvature = std::max(sample.max_curvature, std::abs(bending.curvature(x, e)));
+      if (sample.converged)
+        for (int e = 0; e < static_cast<int>(bending.edges().size()); ++e)
+          sample.max_curvature = std::max(sample.max_curvature, std::abs(bending.curvature(x, e)));
     }
     sample.seconds = numerics::seconds_since(t0);
     if (out.message.empty() && !sample.converged) out.message = sample.message;

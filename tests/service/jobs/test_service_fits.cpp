@@ -271,10 +271,13 @@ TEST_F(ServedFits, AFabFileUploadedAsItIsIsImportedFittedAndReported) {
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 422) << r->body;
     EXPECT_TRUE(contains(r->body, says)) << r->body;
+    EXPECT_FALSE(contains(r->body, m_dir.string())) << "a server path in " << r->body;
   };
   refused("&denier=100", physics, "id: give the fabric's id");
   refused("&id=cupro", physics, "denier: give the yarn's linear density");
-  refused("&id=cupro&denier=1e2x", physics, "'1e2x' is not a number");
+  refused("&id=cupro&denier=1e2x", physics, "'1e2x' is not a positive number");
+  refused("&id=cupro&denier=inf", physics, "'inf' is not a positive number");
+  refused("&id=cupro&denier=-3", physics, "'-3' is not a positive number");
   refused("&id=../cupro&denier=100", physics, "cannot name a folder");
   json broken = json::parse(physics);
   broken["raw_data"]["W"].erase("S1");
@@ -287,6 +290,9 @@ TEST_F(ServedFits, AFabFileUploadedAsItIsIsImportedFittedAndReported) {
   const auto up = ana.Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json");
   ASSERT_EQ(up->status, 201) << up->body;
   EXPECT_EQ(body_of(up)["family"], "weaves");
+  const json files = body_of(up)["files"];  // the record as made, not the upload
+  for (const char* f : {"fabric.yaml", "fab/physics.json", "fab/weft_S2.csv", "stretch_weft.csv"})
+    EXPECT_NE(std::find(files.begin(), files.end(), f), files.end()) << f << " in " << files.dump();
   EXPECT_EQ(read_file(m_dir / "fabrics" / "ana" / "cupro" / "fab" / "physics.json"), physics);  // kept byte for byte
   EXPECT_EQ(ana.Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json")->status, 409);
   const json request = {{"stages", "shell"}, {"fab_held_out", {"S1", "U1", "D1"}}};
