@@ -32,10 +32,9 @@ void append(std::vector<std::string>& to, const std::vector<std::string>& more) 
   to.insert(to.end(), more.begin(), more.end());
 }
 
-// The loop bends' k_θ as the fitted bending parameters.
+// The loop bends' k_θ as the fitted bending parameters. errors.bending_pct stays the pear-loop
+// aspect ratio's (none here): the bends' force errors are per direction and in `fab`.
 void add_fab_bends(const FabRecordFit& fab, results::ShellFitFile& f) {
-  double sum = 0.0;
-  int n = 0;
   std::vector<std::string> fitted;
   for (const auto& b : fab.bends) {
     const auto k = static_cast<std::size_t>(b.direction);
@@ -50,12 +49,10 @@ void add_fab_bends(const FabRecordFit& fab, results::ShellFitFile& f) {
       f.weakly_identified.push_back(std::string(k_bending_names[k]) + ": the loop bends fit within twice the best misfit from " +
                                     db::format_g(b.ktheta_low, 2) + " to " + db::format_g(b.ktheta_high, 2) +
                                     " N*m (each test's zero free)");
-    if (std::isfinite(b.force_pct)) sum += b.force_pct, ++n;
   }
   std::string names;
   for (const auto& name : fitted) names += (names.empty() ? "" : ", ") + name;
   if (!names.empty()) f.identified.push_back(names + ": from the FAB's loop-method bends (force against clamp distance)");
-  f.errors.bending_pct = n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Every FAB test against the model, and the fitted tests' figures in errors_by_direction.
