@@ -4,9 +4,25 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 namespace yarnfit::shell {
 
 namespace {
+
+// The FAB work's OpenMP threads held to the stage's `threads` while it runs: a loop's mesh is
+// small, and a job given one thread that started two-thread teams for each assembly crawled
+// beside other work (its teams' barriers waiting on a descheduled thread).
+class ThreadsHeld {
+ public:
+  explicit ThreadsHeld(int threads) : m_previous(omp_get_max_threads()) { omp_set_num_threads(std::max(1, threads)); }
+  ~ThreadsHeld() { omp_set_num_threads(m_previous); }
+  ThreadsHeld(const ThreadsHeld&) = delete;
+  ThreadsHeld& operator=(const ThreadsHeld&) = delete;
+
+ private:
+  int m_previous;
+};
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
@@ -64,6 +80,7 @@ std::vector<FabBendFit> fit_fab_record_bends(const db::Fabric& fabric, const Inp
     if (!fitted.empty()) work.emplace_back(dir, std::move(fitted));
   }
   std::vector<FabBendFit> fits(work.size());
+  const ThreadsHeld held(threads);
   const double rho = fabric.areal_density.value_or(0.0);
 #pragma omp parallel for num_threads(std::max(1, threads)) schedule(dynamic)
   for (std::size_t i = 0; i < work.size(); ++i) fits[i] = fit_fab_bends(work[i].second, work[i].first, inplane, rho, options);
@@ -78,6 +95,7 @@ std::vector<FabTestFigure> fab_test_figures(const db::Fabric& fabric, const Shel
   for (const auto& [dir, list] : fabric.fab_tests)
     for (const auto& t : list) tests.emplace_back(dir, &t);
   std::vector<FabTestFigure> out(tests.size());
+  const ThreadsHeld held(threads);
   const double rho = fabric.areal_density.value_or(0.0);
 #pragma omp parallel for num_threads(std::max(1, threads)) schedule(dynamic)
   for (std::size_t i = 0; i < tests.size(); ++i) {
