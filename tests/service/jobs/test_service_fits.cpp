@@ -284,6 +284,9 @@ TEST_F(ServedFits, AFabFileUploadedAsItIsIsImportedFittedAndReported) {
   refused("&id=cupro&denier=100", broken.dump(), "/raw_data/W/S1");
   refused("&id=cupro&denier=100", physics.substr(0, physics.size() / 2), "the upload");
   EXPECT_EQ(ana.Post("/api/v1/fabrics?format=tar", physics, "application/json")->status, 400);
+  EXPECT_EQ(client().Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json")->status, 401);
+  EXPECT_EQ(client("not even a token").Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics,
+                                            "application/json")->status, 401);
   EXPECT_TRUE(body_of(ana.Get("/api/v1/fabrics"))["fabrics"].empty());
   EXPECT_TRUE(fs::is_empty(m_dir / "uploads"));
 
@@ -295,6 +298,12 @@ TEST_F(ServedFits, AFabFileUploadedAsItIsIsImportedFittedAndReported) {
     EXPECT_NE(std::find(files.begin(), files.end(), f), files.end()) << f << " in " << files.dump();
   EXPECT_EQ(read_file(m_dir / "fabrics" / "ana" / "cupro" / "fab" / "physics.json"), physics);  // kept byte for byte
   EXPECT_EQ(ana.Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json")->status, 409);
+  // Another user's fabric of the same id is theirs alone; nothing lands outside the data folder.
+  EXPECT_EQ(as(m_bob).Post("/api/v1/fabrics?format=fab&id=cupro&denier=100", physics, "application/json")->status, 201);
+  EXPECT_TRUE(fs::exists(m_dir / "fabrics" / "bob" / "cupro" / "fabric.yaml"));
+  EXPECT_EQ(as(m_bob).Get("/api/v1/fabrics/cupro?owner=ana")->status, 404);
+  for (const auto& e : fs::directory_iterator(m_root.path()))
+    EXPECT_EQ(e.path().filename(), "data") << "written beside the data folder: " << e.path();
   const json request = {{"stages", "shell"}, {"fab_held_out", {"S1", "U1", "D1"}}};
   ASSERT_EQ(ana.Post("/api/v1/fabrics/cupro/fits", request.dump(), "application/json")->status, 202);
   const json done = wait_for(ana, "cupro", ended, 900);
