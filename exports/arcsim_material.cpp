@@ -15,7 +15,6 @@ namespace yarnfit::exports {
 
 namespace {
 
-constexpr double k_level_stretch = 7.0 / 6.0;  // ARCSim's second strain level: (w − 1)·6 = 1
 constexpr int k_path_angles = 19;               // 0, 5, …, 90°
 constexpr int k_path_points = 24;
 constexpr double k_deg = std::numbers::pi / 180.0;

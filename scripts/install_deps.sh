@@ -12,6 +12,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   chromium chromium-driver python3-selenium python3-jsonschema
   python3
+  clang libclang-rt-dev libomp-dev
 )
 
 missing=()

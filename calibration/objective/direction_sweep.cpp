@@ -319,7 +319,6 @@ class Sweep {
   SweepCounts& m_counts;
   std::string m_name;
   bool m_sensitive;
-  double m_flat_curvature;
   yarn::CoarseDeformation m_chi;
   yarn::EquilibriumSensitivity m_sensitivity;  // of the last sensitive solve
   double m_sum_sq = 0.0;

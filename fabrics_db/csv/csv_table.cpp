@@ -23,6 +23,10 @@ std::vector<std::string> split_csv_line(std::string_view line, char delimiter) {
   bool was_quoted = false;
   std::size_t quoted_end = 0;  // length of the quoted text; spaces after the closing quote drop
   auto finish = [&] {
+    if (in_quotes) {  // a quote left open: the cell holds the rest of the line, as quoted
+      quoted_end = cell.size();
+      in_quotes = false;
+    }
     cells.push_back(was_quoted ? cell.substr(0, quoted_end) + std::string(trim(cell.substr(quoted_end)))
                                : std::string(trim(cell)));
     cell.clear();
@@ -43,6 +47,7 @@ std::vector<std::string> split_csv_line(std::string_view line, char delimiter) {
     } else if (c == '"' && trim(cell).empty()) {
       in_quotes = true;
       was_quoted = true;
+      quoted_end = 0;
       cell.clear();
     } else if (c == delimiter) {
       finish();

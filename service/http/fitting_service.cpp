@@ -469,6 +469,7 @@ struct FittingService::Impl {
       return;
     } else {
       const httplib::Server::Handler h = [this, route, handler](const Request& req, Response& res) {
+        (void)this;  // used by one branch of the if constexpr below only
         t_route = route;
         if constexpr (std::is_invocable_v<Handler, const Request&, Response&>) {
           handler(req, res);

@@ -99,7 +99,8 @@ std::vector<FabTestFigure> fab_test_figures(const db::Fabric& fabric, const Shel
   const double rho = fabric.areal_density.value_or(0.0);
 #pragma omp parallel for num_threads(std::max(1, threads)) schedule(dynamic)
   for (std::size_t i = 0; i < tests.size(); ++i) {
-    const auto [dir, t] = tests[i];
+    const db::Direction dir = tests[i].first;  // not a structured binding: lambdas capture it
+    const auto& t = tests[i].second;
     FabTestFigure& f = out[i];
     f.direction = dir;
     f.held_out = contains(held_out, t->name);

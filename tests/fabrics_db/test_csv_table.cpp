@@ -24,6 +24,13 @@ TEST(CsvTable, QuotedFieldsAndOtherDelimiters) {
   EXPECT_EQ(split_csv_line("1;2;;4", ';'), (std::vector<std::string>{"1", "2", "", "4"}));
 }
 
+// Found by fuzz_uniform_targets and fuzz_tensile_import (tests/fuzz_regressions): a quote left
+// open after a quoted cell threw std::out_of_range, the first cell's quote end applied to it.
+TEST(CsvTable, AQuoteLeftOpenHoldsTheRestOfTheLine) {
+  EXPECT_EQ(split_csv_line("\"long text\"x,\"ab", ','), (std::vector<std::string>{"long textx", "ab"}));
+  EXPECT_EQ(split_csv_line("\"a, b ", ','), (std::vector<std::string>{"a, b "}));
+}
+
 TEST(CsvTable, SkipLinesAndEmptyFile) {
   Problems p;
   const auto t = parse_csv("junk\nmore junk\nx,y\n1,2\n", "f.csv", CsvOptions{',', 2}, p);

@@ -113,7 +113,13 @@ std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
                                                              {"R2", &p.r2}}};
   const std::size_t before = problems.size();
   for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
+    // A key may itself be a mapping or a list in YAML ("? [a, b]: 1", "{a: 1}: 2"); only a
+    // name can be a parameter.
+    if (!entry.first.IsScalar()) {
+      problems.add(label, entry.first.Mark().line + 1, "file", "a key must be a parameter name, not a mapping or list");
+      continue;
+    }
+    const std::string key = entry.first.Scalar();
     bool known = false;
     for (const auto& [name, target] : keys) known = known || key == name;
     if (!known && root == doc)

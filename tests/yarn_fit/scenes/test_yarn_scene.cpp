@@ -69,5 +69,18 @@ TEST(YarnScene, ProblemsNameTheFileAndKsTwoFillsTheFixedParameters) {
   EXPECT_NE(problems.to_string().find((dir / "missing.json").string()), std::string::npos) << problems.to_string();
 }
 
+// Found by fuzz_yarn_params (tests/fuzz_regressions): a key that is itself a mapping escaped
+// as yaml-cpp's bad conversion instead of a problem.
+TEST(YarnScene, AKeyThatIsNotANameIsAProblemWithItsLine) {
+  ScratchDir dir("yarn_params_key");
+  write_file(dir / "p.yaml", "ks1: 12\n? [a, b]\n: 3\n{c: 1}: 2\n");
+  db::Problems problems;
+  EXPECT_FALSE(read_yarn_params(dir / "p.yaml", std::nullopt, problems));
+  int named = 0;
+  for (const auto& q : problems.items())
+    named += q.message == "a key must be a parameter name, not a mapping or list" && (q.line == 2 || q.line == 4);
+  EXPECT_EQ(named, 2) << problems.to_string();
+}
+
 }  // namespace
 }  // namespace yarnfit::yarn

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# The test suite under sanitizers (issue 52, docs/reliability.md):
+#   scripts/sanitize.sh [address|thread|all] [ctest arguments...]
+# address (default): the whole tree built with AddressSanitizer and UndefinedBehaviorSanitizer
+#   in build-asan/, every test run; any report fails the test it happened in.
+# thread: the tree built with ThreadSanitizer in build-tsan/, the service and batch tests run
+#   (the code that runs threads of its own: the job queue, the HTTP server, the batch runner).
+# all: both. Logs: build-asan/sanitize.log, build-tsan/sanitize.log.
+set -euo pipefail
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+cd "$(dirname "$0")/.."
+mode=${1:-address}
+[ $# -gt 0 ] && shift
+bash scripts/install_deps.sh
+
+run_address() {
+  local build=build-asan
+  # -O1 and frame pointers keep stacks readable; UB is fatal so that ctest sees it.
+  cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DYARNFIT_BUILD_BENCH=OFF \
+    -DCMAKE_CXX_FLAGS="-O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
+  cmake --build $build --parallel "$(nproc)"
+  # Leaks are checked too (LeakSanitizer, on with ASan); suppressions carry their reasons.
+  ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1" \
+  LSAN_OPTIONS="suppressions=$PWD/scripts/sanitizer/lsan.supp:print_suppressions=0" \
+  UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
+    ctest --test-dir $build --output-on-failure --parallel 2 --timeout 3600 "$@" 2>&1 | tee $build/sanitize.log
+}
+
+run_thread() {
+  local build=build-tsan
+  cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DYARNFIT_BUILD_BENCH=OFF \
+    -DCMAKE_CXX_FLAGS="-O1 -g1 -fno-omit-frame-pointer -fsanitize=thread" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread"
+  cmake --build $build --parallel "$(nproc)" --target test_service test_batch yarnfit
+  # The service and batch suites, the code with threads of its own (HTTP server, job queue,
+  # batch runner). Suppressions, each with its reason: scripts/sanitizer/tsan.supp.
+  : > $build/sanitize.log
+  local status=0
+  for t in tests/service/test_service tests/batch/test_batch; do
+    TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/scripts/sanitizer/tsan.supp" \
+      "$build/$t" "$@" 2>&1 | tee -a $build/sanitize.log || status=1
+  done
+  return $status
+}
+
+case "$mode" in
+  address) run_address "$@" ;;
+  thread) run_thread "$@" ;;
+  all) run_address "$@"; run_thread "$@" ;;
+  *) echo "usage: scripts/sanitize.sh [address|thread|all] [ctest arguments...]" >&2; exit 2 ;;
+esac
