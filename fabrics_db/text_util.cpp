@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "numerics/util/format.hpp"
+#include "numerics/util/whole_file.hpp"
 
 namespace yarnfit::db {
 
@@ -119,25 +120,7 @@ std::filesystem::path file_inside_folder(const std::filesystem::path& folder, co
 }
 
 void write_text_file_atomically(const std::filesystem::path& file, const std::string& text) {
-  const auto folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
-  const auto tmp = folder / ("." + file.filename().string() + ".tmp" + std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error("cannot write " + file.string() + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + file.string() + ": " + ec.message());
-  }
+  numerics::write_file_whole(file, text);
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {

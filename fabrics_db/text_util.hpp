@@ -12,8 +12,7 @@ std::string_view trim(std::string_view s);
 // Reads a whole file; on failure returns false and a message such as
 // "cannot read file: No such file or directory".
 bool read_text_file(const std::filesystem::path& file, std::string& text, std::string& why);
-// Writes `text` to `file` through a temporary file in the same folder and a rename, so a
-// reader never sees a half-written file. Throws std::runtime_error naming the file.
+// numerics::write_file_whole (numerics/util/whole_file.hpp): the file whole or not at all.
 void write_text_file_atomically(const std::filesystem::path& file, const std::string& text);
 // Levenshtein distance, for "did you mean" hints on misspelt keys.
 std::size_t edit_distance(std::string_view a, std::string_view b);

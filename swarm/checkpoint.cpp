@@ -11,6 +11,8 @@
 #include "swarm/json_numbers.hpp"
 #include "swarm/swarm_state.hpp"
 
+#include "numerics/util/whole_file.hpp"
+
 namespace yarnfit::swarm::detail {
 
 namespace {
@@ -245,18 +247,11 @@ void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& s
         {"history", history_json(s.history)},
         {"failures", failures_json(s.failures)}}},
   };
-  // Same folder as the target, so the rename never crosses file systems.
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << doc.dump(1) << '\n';
-    out.close();
-    if (!out) throw std::runtime_error("checkpoint " + path.string() + ": cannot write " + tmp.string());
+  try {
+    numerics::write_file_whole(path, doc.dump(1) + "\n");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("checkpoint " + path.string() + ": " + e.what());
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("checkpoint " + path.string() + ": cannot rename " + tmp.string() + ": " + ec.message());
 }
 
 SwarmState read_checkpoint(const std::filesystem::path& path, const ParameterSpace& space) {
@@ -266,7 +261,7 @@ SwarmState read_checkpoint(const std::filesystem::path& path, const ParameterSpa
   json doc;
   try {
     doc = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number past a double's range
     throw std::runtime_error("checkpoint " + path.string() + ": not valid JSON (" + e.what() + ")");
   }
   if (!doc.is_object() || !doc.contains("format") || doc["format"] != kFormat) {

@@ -19,6 +19,7 @@
 #include "batch/batch.hpp"
 #include "batch/batch_report.hpp"
 #include "exports/export_fit.hpp"
+#include "numerics/util/whole_file.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "reports/report.hpp"
 
@@ -29,18 +30,10 @@ using nlohmann::json;
 
 namespace {
 
-// Writes `text` to `file` whole or not at all (temporary file, fsync, rename).
+// Writes `text` to `file` whole or not at all (numerics/util/whole_file.hpp), its folder made.
 void write_whole(const fs::path& file, const std::string& text) {
   fs::create_directories(file.parent_path());
-  const fs::path tmp = file.string() + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(tmp.string() + ": cannot write");
-  const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()) && ::fsync(fd) == 0;
-  ::close(fd);
-  if (!ok || std::rename(tmp.c_str(), file.c_str()) != 0) {
-    fs::remove(tmp);
-    throw std::runtime_error(file.string() + ": cannot write");
-  }
+  numerics::write_file_whole(file, text);
 }
 
 // "local 1 40/150" → (40, 150); (0, 0) when the text ends without a step.
