@@ -68,6 +68,20 @@ yarn::YarnParams ten_percent_off(const yarn::YarnParams& truth) {
   return q;
 }
 
+// Issue 49's bar: ks1, ε̄s, kb, kc1 within 10 %, R1 within 2 %, comfort-range stress ≤ 1 %.
+void expect_within_the_bar(const YarnFitResult& r, const yarn::YarnParams& truth) {
+  const auto off = [](double fitted, double known) { return std::abs(fitted / known - 1.0); };
+  std::cout << "[ fit      ] off the truth: ks1 " << off(r.params.ks1, truth.ks1) << ", eps_s "
+            << off(r.params.eps_s, truth.eps_s) << ", kb " << off(r.params.kb, truth.kb) << ", R1 "
+            << off(r.params.r1, truth.r1) << ", kc1 " << off(r.params.kc1, truth.kc1) << "\n";
+  EXPECT_LT(off(r.params.ks1, truth.ks1), 0.1);
+  EXPECT_LT(off(r.params.eps_s, truth.eps_s), 0.1);
+  EXPECT_LT(off(r.params.kb, truth.kb), 0.1);
+  EXPECT_LT(off(r.params.kc1, truth.kc1), 0.1);
+  EXPECT_LT(off(r.params.r1, truth.r1), 0.02);
+  for (const auto& d : r.final.directions) EXPECT_LT(d.stress_comfort_pct, 1.0) << db::to_string(d.scale.direction);
+}
+
 TEST(WovenFit, GFallsSteadilyFromTenPercentOffToTheTruth) {
   const WovenCase c = tight_plain_weave();
   ObjectiveOptions oo;
@@ -101,13 +115,7 @@ TEST(WovenFit, TheLocalStepFindsAKnownTruthAgainFromTenPercentOff) {
   const double seconds = numerics::seconds_since(t0);
   ASSERT_TRUE(r.ok) << r.message;
   std::cout << "[ local    ] " << r.local.report << "\n[ local    ] " << seconds << " s\n";
-  const auto off = [](double fitted, double known) { return std::abs(fitted / known - 1.0); };
-  EXPECT_LT(off(r.params.ks1, c.truth.ks1), 0.1);
-  EXPECT_LT(off(r.params.eps_s, c.truth.eps_s), 0.1);
-  EXPECT_LT(off(r.params.kb, c.truth.kb), 0.1);
-  EXPECT_LT(off(r.params.kc1, c.truth.kc1), 0.1);
-  EXPECT_LT(off(r.params.r1, c.truth.r1), 0.02);
-  for (const auto& d : r.final.directions) EXPECT_LT(d.stress_comfort_pct, 1.0) << db::to_string(d.scale.direction);
+  expect_within_the_bar(r, c.truth);
   bool measured = false;
   for (const auto& round : r.local.alternation.rounds) measured = measured || round.rest_derivative_measured;
   EXPECT_TRUE(measured) << "the held model mispredicted no round: this test no longer tests the measured derivative";
@@ -127,16 +135,7 @@ TEST(WovenFit, TheDefaultFitFindsAKnownTruthFromTheTargetsAlone) {
   ASSERT_TRUE(r.ok) << r.message;
   std::cout << "[ default  ] " << r.evaluations << " evaluations, " << seconds << " s (global "
             << r.seconds_swarm << " s, local " << r.seconds_local << " s)\n";
-  const auto off = [](double fitted, double known) { return std::abs(fitted / known - 1.0); };
-  std::cout << "[ default  ] off the truth: ks1 " << off(r.params.ks1, c.truth.ks1) << ", eps_s "
-            << off(r.params.eps_s, c.truth.eps_s) << ", kb " << off(r.params.kb, c.truth.kb) << ", R1 "
-            << off(r.params.r1, c.truth.r1) << ", kc1 " << off(r.params.kc1, c.truth.kc1) << "\n";
-  EXPECT_LT(off(r.params.ks1, c.truth.ks1), 0.1);
-  EXPECT_LT(off(r.params.eps_s, c.truth.eps_s), 0.1);
-  EXPECT_LT(off(r.params.kb, c.truth.kb), 0.1);
-  EXPECT_LT(off(r.params.kc1, c.truth.kc1), 0.1);
-  EXPECT_LT(off(r.params.r1, c.truth.r1), 0.02);
-  for (const auto& d : r.final.directions) EXPECT_LT(d.stress_comfort_pct, 1.0) << db::to_string(d.scale.direction);
+  expect_within_the_bar(r, c.truth);
 }
 
 }  // namespace
