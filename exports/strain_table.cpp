@@ -185,7 +185,8 @@ nlohmann::json table_json(const FittedFabric& fabric, const StrainTable& table) 
        {{"columns", {"model", "direction", "stretch", "compression", "line_force"}},
         {"units", {"", "", "-", "-", "N/m"}},
         {"grid",
-         "a pull along the direction (weft 0, bias 45, warp 90 degrees from the weft), the width free (no stress across); "
+         "a pull along the direction (weft 0, bias 45, warp 90 degrees from the weft), the width free (no stress across), "
+         "the shear held at zero; "
          "shell: 25 stretches from 0 to the end of the fitted range; yarn: the fitted yarn model simulated on the tile at "
          "the yarn fit's target stretches (its final evaluation)"},
         {"rows", uniaxial},

@@ -16,7 +16,7 @@ bash scripts/install_deps.sh
 run_address() {
   local build=build-asan
   # -O1 and frame pointers keep stacks readable; UB is fatal so that ctest sees it.
-  cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DYARNFIT_BUILD_BENCH=OFF \
+  cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DYARNFIT_BUILD_BENCH=OFF -DYARNFIT_TEST_TIMEOUT_SCALE=5 \
     -DCMAKE_CXX_FLAGS="-O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
   cmake --build $build --parallel "$(nproc)"
@@ -24,7 +24,7 @@ run_address() {
   ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1" \
   LSAN_OPTIONS="suppressions=$PWD/scripts/sanitizer/lsan.supp:print_suppressions=0" \
   UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
-    ctest --test-dir $build --output-on-failure --parallel 2 --timeout 3600 "$@" 2>&1 | tee $build/sanitize.log
+    ctest --test-dir $build --output-on-failure --parallel 2 --timeout 4500 "$@" 2>&1 | tee $build/sanitize.log
 }
 
 run_thread() {

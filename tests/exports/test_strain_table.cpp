@@ -4,6 +4,8 @@
 // the tile, and the files it writes.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
@@ -73,7 +75,7 @@ TEST(StrainTable, StressesAreTheEnergysDerivatives) {
   EXPECT_LT(worst, 1e-6);
 }
 
-TEST(StrainTable, ShellPullsAreThoseOfAClampedStripInItsMiddle) {
+TEST(StrainTable, ShellPullsAreThoseOfAClampedStripInItsMiddleAlongTheAxesAndStifferAlongTheBias) {
   const ScratchDir dir("table_shell");
   const fs::path fit = demo_fit(dir);
   const StrainTable t = strain_table(read_fitted_fabric(fit));
@@ -82,9 +84,22 @@ TEST(StrainTable, ShellPullsAreThoseOfAClampedStripInItsMiddle) {
     const auto r = run_cli("shell sim --scene stretch --direction " + direction + " --params " + quoted(fit / "shell_fit.json") +
                            " --stretch 0.05,0.1 --length-mm 300 --width-mm 30 --gauge-length-mm 60 --gauge-width-mm 10");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    for (const auto& s : json::parse(r.out)["samples"]) {
+    // Kept: a range over a temporary's member dangled here (found by ASan) and this loop
+    // checked nothing.
+    const json out = json::parse(r.out);
+    ASSERT_EQ(out["samples"].size(), 2u);
+    for (const auto& s : out["samples"]) {
       const double stretch = s["stretch"], force = s["line_force_N_per_m"];
-      EXPECT_NEAR(table_force(t, "shell", direction, stretch), force, 0.01 * force) << direction << " at " << stretch;
+      const double table = table_force(t, "shell", direction, stretch);
+      std::cout << "[ pull     ] " << direction << " at " << stretch << ": table " << table << ", strip " << force << " N/m\n";
+      if (direction == "bias") {
+        // The table holds the shear at zero; the strip's middle shears freely, so the table can
+        // only carry more force (docs/exports.md).
+        EXPECT_GT(table, force) << "bias at " << stretch;
+        EXPECT_LT(table, 1.15 * force) << "bias at " << stretch;
+      } else {
+        EXPECT_NEAR(table, force, 0.01 * force) << direction << " at " << stretch;
+      }
     }
   }
 }
