@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "fabrics_db/text_util.hpp"
 #include "swarm/json_numbers.hpp"
@@ -22,6 +23,43 @@ using swarm::json_columns;
 using swarm::json_number;
 using swarm::json_vector;
 
+// Every reader below names the field it failed on ("local[0].rounds[2].g_end: expected a
+// number, got \"x\""): `in` adds one step of the path to whatever its body throws.
+template <class F>
+auto in(const std::string& step, F&& body) -> decltype(body()) {
+  try {
+    return body();
+  } catch (const json::exception& e) {
+    throw std::runtime_error(step + ": " + e.what());
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    throw std::runtime_error(step + (what.starts_with("[") ? "" : ".") + what);
+  }
+}
+
+std::string indexed(const char* key, std::size_t i) { return std::string(key) + "[" + std::to_string(i) + "]"; }
+
+const json& field(const json& j, const char* key) {
+  if (!j.is_object()) throw std::runtime_error(std::string(key) + ": inside something that is not an object");
+  const auto it = j.find(key);
+  if (it == j.end()) throw std::runtime_error(std::string(key) + ": missing");
+  return *it;
+}
+
+template <class T>
+T get(const json& j, const char* key) {
+  const json& v = field(j, key);
+  try {
+    return v.get<T>();
+  } catch (const json::exception&) {
+    throw std::runtime_error(std::string(key) + ": expected " +
+                             (std::is_same_v<T, bool>          ? "true or false"
+                              : std::is_same_v<T, std::string> ? "a string"
+                                                               : "a number") +
+                             ", got " + v.dump());
+  }
+}
+
 // A number as json_number wrote it; anything else is a damaged checkpoint, never a NaN.
 double real(const json& j) {
   if (const auto v = swarm::json_real(j)) return *v;
@@ -29,15 +67,27 @@ double real(const json& j) {
 }
 
 Eigen::VectorXd vector_of(const json& j) {
+  if (!j.is_array()) throw std::runtime_error("expected an array of numbers, got " + j.dump());
   Eigen::VectorXd v(static_cast<Eigen::Index>(j.size()));
-  for (std::size_t i = 0; i < j.size(); ++i) v[static_cast<Eigen::Index>(i)] = real(j[i]);
+  for (std::size_t i = 0; i < j.size(); ++i) v[static_cast<Eigen::Index>(i)] = in("[" + std::to_string(i) + "]", [&] { return real(j[i]); });
   return v;
 }
 
+double real_at(const json& j, const char* key) { return in(key, [&] { return real(field(j, key)); }); }
+Eigen::VectorXd vector_at(const json& j, const char* key) { return in(key, [&] { return vector_of(field(j, key)); }); }
+
 Eigen::MatrixXd matrix_of(const json& j) {
+  if (!j.is_array()) throw std::runtime_error("expected an array of columns, got " + j.dump());
   if (j.empty()) return {};
+  if (!j[0].is_array()) throw std::runtime_error("[0]: expected an array of numbers, got " + j[0].dump());
   Eigen::MatrixXd m(static_cast<Eigen::Index>(j[0].size()), static_cast<Eigen::Index>(j.size()));
-  for (std::size_t c = 0; c < j.size(); ++c) m.col(static_cast<Eigen::Index>(c)) = vector_of(j[c]);
+  for (std::size_t c = 0; c < j.size(); ++c) {
+    const Eigen::VectorXd column = in("[" + std::to_string(c) + "]", [&] { return vector_of(j[c]); });
+    if (column.size() != m.rows())
+      throw std::runtime_error("[" + std::to_string(c) + "]: a column of " + std::to_string(column.size()) +
+                               " numbers among columns of " + std::to_string(m.rows()));
+    m.col(static_cast<Eigen::Index>(c)) = column;
+  }
   return m;
 }
 
@@ -50,17 +100,17 @@ json round_json(const AlternationRound& r) {
 
 AlternationRound round_of(const json& j) {
   AlternationRound r;
-  r.round = j.at("round").get<int>();
-  r.g_start = real(j.at("g_start"));
-  r.g_end = real(j.at("g_end"));
-  r.g_true = real(j.at("g_true"));
-  r.accepted = j.at("accepted").get<bool>();
-  r.move = real(j.at("move"));
-  r.evaluations = j.at("evaluations").get<int>();
-  r.iterations = j.at("iterations").get<int>();
-  r.termination = j.at("termination").get<std::string>();
-  r.failed = j.at("failed").get<bool>();
-  r.seconds = j.at("seconds").get<double>();
+  r.round = get<int>(j, "round");
+  r.g_start = real_at(j, "g_start");
+  r.g_end = real_at(j, "g_end");
+  r.g_true = real_at(j, "g_true");
+  r.accepted = get<bool>(j, "accepted");
+  r.move = real_at(j, "move");
+  r.evaluations = get<int>(j, "evaluations");
+  r.iterations = get<int>(j, "iterations");
+  r.termination = get<std::string>(j, "termination");
+  r.failed = get<bool>(j, "failed");
+  r.seconds = get<double>(j, "seconds");
   r.rest_derivative_measured = j.value("rest_derivative_measured", false);  // absent before issue 49
   return r;
 }
@@ -88,43 +138,54 @@ json run_json(const AlternationSummary& s) {
 
 AlternationSummary run_of(const json& j) {
   AlternationSummary s;
-  s.ok = j.at("ok").get<bool>();
-  s.message = j.at("message").get<std::string>();
-  s.best_point = vector_of(j.at("best_point"));
-  s.best_value = real(j.at("best_value"));
-  s.start_value = real(j.at("start_value"));
-  for (const auto& r : j.at("rounds")) s.rounds.push_back(round_of(r));
-  s.converged = j.at("converged").get<bool>();
-  s.last_move = real(j.at("last_move"));
-  s.evaluations = j.at("evaluations").get<int>();
-  s.failed_evaluations = j.at("failed_evaluations").get<int>();
-  s.fell_back = j.at("fell_back").get<bool>();
-  s.fallback_reason = j.at("fallback_reason").get<std::string>();
-  s.fallback.message = j.at("fallback_report").get<std::string>();
-  s.residuals = vector_of(j.at("residuals"));
-  s.jacobian_log = matrix_of(j.at("jacobian_log"));
-  s.seconds = j.at("seconds").get<double>();
+  s.ok = get<bool>(j, "ok");
+  s.message = get<std::string>(j, "message");
+  s.best_point = vector_at(j, "best_point");
+  s.best_value = real_at(j, "best_value");
+  s.start_value = real_at(j, "start_value");
+  const json& rounds = field(j, "rounds");
+  if (!rounds.is_array()) throw std::runtime_error("rounds: expected an array, got " + rounds.dump());
+  for (std::size_t i = 0; i < rounds.size(); ++i)
+    s.rounds.push_back(in(indexed("rounds", i), [&] { return round_of(rounds[i]); }));
+  s.converged = get<bool>(j, "converged");
+  s.last_move = real_at(j, "last_move");
+  s.evaluations = get<int>(j, "evaluations");
+  s.failed_evaluations = get<int>(j, "failed_evaluations");
+  s.fell_back = get<bool>(j, "fell_back");
+  s.fallback_reason = get<std::string>(j, "fallback_reason");
+  s.fallback.message = get<std::string>(j, "fallback_report");
+  s.residuals = vector_at(j, "residuals");
+  s.jacobian_log = in("jacobian_log", [&] { return matrix_of(field(j, "jacobian_log")); });
+  s.seconds = get<double>(j, "seconds");
   return s;
 }
 
 }  // namespace
 
 FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("fit checkpoint " + file.string() + ": cannot be read");
+  std::ifstream stream(file);
+  if (!stream) throw std::runtime_error("fit checkpoint " + file.string() + ": cannot be read");
   FitCheckpoint out;
   try {
-    const json j = json::parse(in);
+    const json j = json::parse(stream);
+    if (!j.is_object()) throw std::runtime_error("not a version " + std::to_string(kVersion) + " yarnfit fit checkpoint");
     if (j.value("format", std::string()) != kFormat || j.value("version", 0) != kVersion)
       throw std::runtime_error("not a version " + std::to_string(kVersion) + " yarnfit fit checkpoint");
     if (j.contains("rescored")) {
+      const json& rescored = j["rescored"];
+      if (!rescored.is_array()) throw std::runtime_error("rescored: expected an array, got " + rescored.dump());
       std::vector<GlobalCandidate> c;
-      for (const auto& e : j.at("rescored")) c.push_back({vector_of(e.at("point")), real(e.at("value"))});
+      for (std::size_t i = 0; i < rescored.size(); ++i)
+        c.push_back(in(indexed("rescored", i), [&] {
+          return GlobalCandidate{vector_at(rescored[i], "point"), real_at(rescored[i], "value")};
+        }));
       out.rescored = std::move(c);
     }
-    for (const auto& e : j.at("local")) {
-      if (e.is_null()) out.local.emplace_back();
-      else out.local.emplace_back(run_of(e));
+    const json& local = field(j, "local");
+    if (!local.is_array()) throw std::runtime_error("local: expected an array, got " + local.dump());
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      if (local[i].is_null()) out.local.emplace_back();
+      else out.local.emplace_back(in(indexed("local", i), [&] { return run_of(local[i]); }));
     }
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("fit checkpoint " + file.string() + ": " + e.what());

@@ -6,6 +6,7 @@
 // so a user fixing a file sees all of its problems at once.
 #include "fabrics_db/tile/periodic_tile.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <charconv>
 #include <cmath>
@@ -292,6 +293,11 @@ constexpr double k_director_tolerance = 1e-3;
 // An edge shorter than this fraction of the larger period is treated as zero-length: its
 // tangent, and everything the simulator derives from it, would be undefined.
 constexpr double k_zero_length_fraction = 1e-9;
+// How far apart, in periods, a tile's vertices may lie along x or along y. HYLC's tiles and
+// the generated ones span about one period; a tile spanning thousands (found by fuzzing)
+// describes the same yarns far apart, and every contact search would visit the copies in
+// between (compute_tile_facts refuses beyond 1e5 copies a pair).
+constexpr double k_max_span_periods = 10.0;
 
 }  // namespace
 
@@ -516,6 +522,38 @@ void report_zero_length_edges(const Parsed& e, const std::vector<bool>& edge_ok,
   }
 }
 
+// Vertices may lie at most k_max_span_periods apart along x and along y. The problem points at
+// the extreme vertex farther from the median, the one most likely mistyped.
+void report_vertices_spanning_too_far(const Parsed& q, const PeriodicTile& tile, Reporter& report) {
+  std::vector<std::size_t> good;
+  for (std::size_t i = 0; i < q.values.size(); ++i) {
+    if (q.ok[i]) good.push_back(i);
+  }
+  if (good.size() < 2) return;
+  const double periods[] = {tile.period_x, tile.period_y};
+  const char* axes[] = {"x", "y"};
+  for (std::size_t c = 0; c < 2; ++c) {
+    const auto coord = [&](std::size_t i) { return q.values[i][c]; };
+    const auto [lo, hi] = std::minmax_element(good.begin(), good.end(),
+                                              [&](std::size_t a, std::size_t b) { return coord(a) < coord(b); });
+    const double span = (coord(*hi) - coord(*lo)) / periods[c];
+    if (!(span > k_max_span_periods)) continue;
+    std::vector<double> sorted;
+    for (std::size_t i : good) sorted.push_back(coord(i));
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    const bool hi_is_odd = coord(*hi) - median >= median - coord(*lo);
+    const std::size_t odd = hi_is_odd ? *hi : *lo;
+    const std::size_t other = hi_is_odd ? *lo : *hi;
+    report.add(q.lines[odd], cat({"*Q ", axes[c]}),
+               cat({"vertex ", std::to_string(odd), " at ", axes[c], " = ", format_g(coord(odd)), " lies ",
+                    format_g(span, 3), " periods from vertex ", std::to_string(other), " at ", axes[c], " = ",
+                    format_g(coord(other)), " (line ", std::to_string(q.lines[other]),
+                    "); a tile's vertices must lie within ", format_g(k_max_span_periods),
+                    " periods of one another along x and along y (HYLC's tiles span about one)"}));
+  }
+}
+
 // Rest lengths must be positive; directors must be unit vectors.
 void check_rest_lengths_and_directors(const std::map<std::string_view, Parsed>& parsed, Reporter& report) {
   if (const auto it = parsed.find("RL"); it != parsed.end()) {
@@ -584,6 +622,7 @@ std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string
     // Zero-length edges need the positions and the periods.
     if (q != nullptr && pattern.ok) report_zero_length_edges(*e, edge_ok, *q, tile, report);
   }
+  if (q != nullptr && pattern.ok) report_vertices_spanning_too_far(*q, tile, report);
   check_rest_lengths_and_directors(parsed, report);
   if (report.count() > 0 || q == nullptr || e == nullptr) return std::nullopt;
   fill_tile_values(*q, *e, parsed, tile);

@@ -8,6 +8,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <csignal>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <random>
@@ -24,6 +28,7 @@ constexpr int k_too_large = 413;
 constexpr int k_not_an_archive = 415;
 constexpr int k_refused_entry = 422;
 constexpr int k_disk = 500;
+constexpr const char* k_staging_mark = ".upload-";
 
 struct ReadDeleter {
   void operator()(archive* a) const { archive_read_free(a); }
@@ -226,16 +231,40 @@ bool sync_tree(const fs::path& root) {
   return true;
 }
 
-// A fresh hidden folder beside `destination` to unpack into.
+// A fresh hidden folder beside `destination` to unpack into: ".NAME.upload-PID-RANDOM", so that
+// the folder of a process killed before its rename can be told from one still being written.
 std::optional<fs::path> make_staging(const fs::path& destination) {
   std::random_device rd;
   for (int attempt = 0; attempt < 8; ++attempt) {
-    const fs::path p = destination.parent_path() /
-                       ("." + destination.filename().string() + ".upload-" + std::to_string(rd()));
+    const fs::path p = destination.parent_path() / ("." + destination.filename().string() + k_staging_mark +
+                                                    std::to_string(::getpid()) + "-" + std::to_string(rd()));
     std::error_code ec;
     if (fs::create_directory(p, ec) && !ec) return p;
   }
   return std::nullopt;
+}
+
+// Staging folders in `folder` of processes that are gone (killed between unpacking and the
+// rename): whatever upload they were for, nobody will move them into place.
+void remove_stale_staging(const fs::path& folder) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    const auto mark = name.find(k_staging_mark);
+    if (name.empty() || name[0] != '.' || mark == std::string::npos) continue;
+    const char* first = name.data() + mark + std::string_view(k_staging_mark).size();
+    const char* last = name.data() + name.size();
+    long pid = 0;
+    const auto [end, err] = std::from_chars(first, last, pid);
+    if (err != std::errc() || end == last || *end != '-' || pid <= 0 || pid == ::getpid()) continue;
+    std::error_code gone;
+    if (::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) fs::remove_all(entry.path(), gone);
+  }
+}
+
+std::function<void(const fs::path&)>& before_move_hook() {
+  static std::function<void(const fs::path&)> hook;
+  return hook;
 }
 
 // The second pass: every entry written under `staging`, the limits held while the data streams.
@@ -366,12 +395,14 @@ UnpackedUpload unpack(std::string_view archive, const fs::path& given, const Upl
   UnpackedUpload out;
   auto why = write_entries(archive, limits, entries, common_top_folder(entries), *staging, out);
   if (!why && !sync_tree(*staging)) why = UploadRefusal{k_disk, "cannot flush the unpacked files to the disk"};
+  if (!why && before_move_hook()) before_move_hook()(*staging);
   // Into place only when whole, and never over a folder that appeared meanwhile.
   if (!why && ::renameat2(AT_FDCWD, staging->c_str(), AT_FDCWD, destination.c_str(), RENAME_NOREPLACE) != 0)
     why = UploadRefusal{k_disk, destination.string() + ": cannot move the unpacked folder into place"};
   if (why) return refused(*why);
   guard.moved = true;
   sync_folder(destination.parent_path());  // the rename itself
+  remove_stale_staging(destination.parent_path());
   std::sort(out.files.begin(), out.files.end());
   out.ok = true;
   return out;
@@ -386,5 +417,9 @@ UnpackedUpload unpack_upload(std::string_view archive, const fs::path& destinati
     return refused({k_disk, destination.string() + ": " + e.what()});
   }
 }
+
+namespace detail {
+void set_before_move_hook(std::function<void(const fs::path& staging)> hook) { before_move_hook() = std::move(hook); }
+}  // namespace detail
 
 }  // namespace yarnfit::service

@@ -14,10 +14,12 @@
 // - how much: the archive's size, the number of files, each file's and the total unpacked
 //   size (a zip bomb stops at the limit, whatever its headers claim).
 // The folder is built beside `destination` under a hidden name and renamed into place when
-// every entry passed; a refused upload leaves nothing behind.
+// every entry passed; a refused upload leaves nothing behind, and the hidden folder of a
+// process killed before its rename is removed by the next upload into the same folder.
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,5 +59,12 @@ struct UnpackedUpload {
 
 // Why `name` (an entry's name, top folder included) may not be unpacked; empty when it may.
 [[nodiscard]] std::string entry_name_problem(std::string_view name, std::size_t max_length);
+
+namespace detail {
+// Fault injection for tests (issue 52): called with the staging folder once every file is in it
+// and flushed, just before it is renamed into place; it may end the process (a kill between the
+// staging and the rename). Empty: nothing is called.
+void set_before_move_hook(std::function<void(const std::filesystem::path& staging)> hook);
+}  // namespace detail
 
 }  // namespace yarnfit::service

@@ -398,6 +398,51 @@ TEST_F(BatchCli, BadArgumentsExit2AndASecondBatchOnTheSameFolderIsRefused) {
 // A record naming a knit to generate is fitted: the batch checks it with the folder its jobs
 // keep generated tiles in (it used to refuse every such record before any work, asking for a
 // tile cache that only the jobs set).
+// Issue 52's batch-level write fault: every results row of the ledger names a stage whose
+// result file is there.
+void expect_every_row_has_its_file(const fs::path& out) {
+  for (const auto& row : batch::Ledger::open_read_only(batch::ledger_file(out)).results())
+    EXPECT_TRUE(fs::exists(batch::fabric_output_folder(out, row.fabric_id) / (row.stage + "_fit.json")))
+        << row.fabric_id << "/" << row.stage << ": a ledger row without its file";
+}
+
+TEST_F(BatchCli, AFabricFolderThatCannotBeWrittenFailsWithItsReasonAndTheRetryFinishes) {
+  // The ledger's folder writable, the fabrics' folder not: the job fails writing its first
+  // file. Root writes anywhere, so as root the batch runs as nobody.
+  const fs::path out = *s_dir / "read_only_fabrics";
+  fs::create_directories(out / "fabrics");
+  fs::permissions(out, fs::perms::all);
+  fs::permissions(out / "fabrics", fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                       fs::perms::others_read | fs::perms::others_exec);
+  const std::string as_nobody = ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+  if (::geteuid() != 0) fs::permissions(out / "fabrics", fs::perms::owner_write, fs::perm_options::remove);
+  const pid_t pid = start_in_background(as_nobody, batch(out, " --only knit_a --jobs 1"), *s_dir / "ro.log");
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string log = read_file(*s_dir / "ro.log");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << log;
+  {
+    const auto ledger = batch::Ledger::open_read_only(batch::ledger_file(out));
+    const auto job = ledger.job("knit_a");
+    ASSERT_TRUE(job);
+    EXPECT_EQ(job->status, "failed");
+    EXPECT_TRUE(contains(job->error, (out / "fabrics" / "knit_a").string())) << job->error;
+    EXPECT_TRUE(contains(job->error, "Permission denied")) << job->error;
+    EXPECT_TRUE(ledger.results().empty()) << "results recorded for a job that wrote nothing";
+  }
+  EXPECT_TRUE(contains(log, "Permission denied")) << log;
+  expect_every_row_has_its_file(out);
+
+  // Writable again: the retry finishes it, each row with its file.
+  fs::permissions(out / "fabrics", fs::perms::owner_write, fs::perm_options::add);
+  const auto r = run_cli(batch(out, " --only knit_a --jobs 1 --retry-failed"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto ledger = batch::Ledger::open_read_only(batch::ledger_file(out));
+  EXPECT_EQ(ledger.job("knit_a")->status, "done");
+  EXPECT_EQ(ledger.results().size(), 2u);
+  expect_every_row_has_its_file(out);
+}
+
 TEST(BatchGeneratedTile, ARecordNamingAKnitIsFittedOnItsGeneratedTile) {
   ScratchDir dir("batch_knit");
   write_base_fabric(dir / "db" / "K", "K");

@@ -267,6 +267,9 @@ const RuleCase k_rule_cases[] = {
     {"zero_length_edge", 6, "0 0 0 0.1", 11, "*E", "has zero length"},
     {"zero_length_edge_across_period", 8, "0.004 0 0 -0.1", 14, "*E",
      "edge from vertex 3 to vertex 0 (offset 1 0) has zero length"},
+    {"vertex_thousands_of_periods_away", 6, "500 0.0005 0.0002 0.1", 6, "*Q x",
+     "vertex 1 at x = 500 lies 1.25e+05 periods from vertex 0 at x = 0 (line 5)"},
+    {"vertex_far_along_y_reported_at_the_odd_one_out", 7, "0.002 -0.5 0 0", 7, "*Q y", "lies 250 periods"},
     {"director_not_unit", 35, "0 0 2", 35, "*RefD1", "unit vector"},
 };
 

@@ -283,6 +283,26 @@ TEST(WriteFaults, AnUploadIsKeptWholeOrNotAtAllAndTheRetryFinishes) {
   ASSERT_FALSE(retried.files.empty());
   for (const auto& name : retried.files)
     EXPECT_EQ(read_file(dir / "staged" / name), read_file(bundled_example_folder() / name)) << name;
+
+  // Killed with every file unpacked and flushed, before the folder is moved into place.
+  const ChildEnd killed = run_in_child(
+      [] { service::detail::set_before_move_hook([](const fs::path&) { ::raise(SIGKILL); }); },
+      [&] { (void)service::unpack_upload(bytes, dir / "killed"); });
+  EXPECT_TRUE(killed.killed) << killed.message;
+  EXPECT_FALSE(fs::exists(dir / "killed")) << "a killed upload is in place";
+  const auto hidden = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir.path()))
+      if (e.path().filename().string().starts_with(".")) names.push_back(e.path().filename().string());
+    return names;
+  };
+  EXPECT_EQ(hidden().size(), 1u) << "the killed unpacker's staging folder is what it leaves";
+  const service::UnpackedUpload again = service::unpack_upload(bytes, dir / "killed");
+  ASSERT_TRUE(again.ok) << again.refusal.message;
+  EXPECT_EQ(again.files, retried.files);
+  for (const auto& name : again.files)
+    EXPECT_EQ(read_file(dir / "killed" / name), read_file(bundled_example_folder() / name)) << name;
+  EXPECT_TRUE(hidden().empty()) << "the retry left the dead unpacker's staging folder";
 }
 
 }  // namespace
