@@ -4,7 +4,8 @@
 #
 #   scripts/fuzz.sh --list             builds the targets if needed; names them, one a line
 #   scripts/fuzz.sh TARGET SECONDS     fuzzes TARGET for SECONDS (more libFuzzer flags may follow)
-#   scripts/fuzz.sh --all SECONDS      every target for SECONDS each (.ci/run's smoke run)
+#   scripts/fuzz.sh --all SECONDS      every target for SECONDS each, one per core at a time
+#                                      (.ci/run's smoke run)
 #
 # Installs what it needs (scripts/install_deps.sh), builds in build-fuzz/ with clang. Each
 # target starts from the seeds the project writes itself (fuzz/write_seeds.cpp, into
@@ -58,7 +59,24 @@ case "$1" in
     [ $# -eq 2 ] || usage
     build_targets
     rm -rf "$build/seeds" && "$build/fuzz/fuzz_write_seeds" . "$build/seeds" >&2
-    for t in $(targets); do run_target "$t" "$2"; done
+    # As many targets at once as there are cores (each libFuzzer run is one process), each
+    # into its own log, shown whole when it ends; any failure fails the run.
+    mkdir -p "$build/logs"
+    failed=0
+    run_logged() { run_target "$1" "$2" >"$build/logs/$1.log" 2>&1; }
+    show() { cat "$build/logs/$1.log"; }
+    pending=($(targets))
+    while [ ${#pending[@]} -gt 0 ]; do
+      batch=("${pending[@]:0:$(nproc)}")
+      pending=("${pending[@]:$(nproc)}")
+      pids=()
+      for t in "${batch[@]}"; do run_logged "$t" "$2" & pids+=($!); done
+      for i in "${!batch[@]}"; do
+        if ! wait "${pids[$i]}"; then failed=1; echo "== ${batch[$i]}: FAILED" >&2; fi
+        show "${batch[$i]}" >&2
+      done
+    done
+    exit $failed
     ;;
   -*) usage ;;
   *)
