@@ -25,7 +25,7 @@ using nlohmann::json;
 
 namespace {
 
-std::string step_text(const reports::Progress& p) {
+std::string step_text(const numerics::Progress& p) {
   std::string s = p.stage.empty() ? std::string("running") : p.stage;
   if (p.steps > 0) s += " " + std::to_string(p.step) + "/" + std::to_string(p.steps);
   return s;

@@ -29,7 +29,7 @@ class ExportStage final : public OutputStage {
   }
   void run(const FitPlan& plan, const std::string& fabric_id, PlanResult& result,
            const PlanObserver& observer) const override {
-    if (observer) observer({Stage::exports, fabric_id, reports::Progress{}});
+    if (observer) observer({Stage::exports, fabric_id, numerics::Progress{}});
     if (!result.fit.shell || !result.fit.shell->usable()) {
       result.outputs.text += "exports: none written: the shell fit has no usable law\n";
       return;
@@ -61,7 +61,7 @@ class ReportStage final : public OutputStage {
   }
   void run(const FitPlan& plan, const std::string& fabric_id, PlanResult& result,
            const PlanObserver& observer) const override {
-    if (observer) observer({Stage::report, fabric_id, reports::Progress{}});
+    if (observer) observer({Stage::report, fabric_id, numerics::Progress{}});
     std::vector<reports::RunOutputs> runs{reports::read_fit_folders(plan.out)};
     // The report lies in the folder it describes: its name says enough, and a fit run for
     // someone else (the service's) shows nothing of where the server keeps it.

@@ -19,8 +19,8 @@ PipelineOptions stage_options(const FitPlan& plan, const std::string& fabric_id,
   PipelineOptions o = plan.options;
   if (o.tile_cache.empty()) o.tile_cache = plan.out;
   if (observer) {
-    o.shell.progress = [observer, fabric_id](const reports::Progress& p) { observer({Stage::shell, fabric_id, p}); };
-    o.yarn.progress = [observer, fabric_id](const reports::Progress& p) { observer({Stage::yarn, fabric_id, p}); };
+    o.shell.progress = [observer, fabric_id](const numerics::Progress& p) { observer({Stage::shell, fabric_id, p}); };
+    o.yarn.progress = [observer, fabric_id](const numerics::Progress& p) { observer({Stage::yarn, fabric_id, p}); };
   }
   return o;
 }

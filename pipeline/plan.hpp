@@ -18,7 +18,7 @@
 #include "fabrics_db/problems.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 
 namespace yarnfit::pipeline {
 
@@ -41,7 +41,7 @@ struct FitPlan {
 struct StageEvent {
   Stage stage = Stage::shell;
   std::string fabric_id;
-  reports::Progress progress;
+  numerics::Progress progress;
 };
 using PlanObserver = std::function<void(const StageEvent&)>;
 
