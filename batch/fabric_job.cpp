@@ -64,10 +64,10 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
                                                : std::string(pipeline::to_string(e.stage)));
     };
   }
-  const pipeline::PlanResult result = pipeline::run_plan(plan, observer);
-  if (result.fit.status == pipeline::PipelineStatus::invalid_input) return {false, result.fit.problems.to_string()};
+  const pipeline::PipelineResult result = pipeline::run_plan(plan, observer);
+  if (result.status == pipeline::PipelineStatus::invalid_input) return {false, result.problems.to_string()};
   if (!result.write_error.empty()) return {false, result.write_error};
-  if (result.fit.status != pipeline::PipelineStatus::ok) return {false, result.fit.message};
+  if (result.status != pipeline::PipelineStatus::ok) return {false, result.message};
   return {true, ""};
 }
 
