@@ -20,7 +20,7 @@ db::Problems BatchOptions::problems() const {
     say("threads_per_job", "must be 1-256 (got " + std::to_string(threads_per_job) + ")");
   if (!(heartbeat_interval > 0)) say("heartbeat_interval", "must be positive");
   if (!(stale_after > heartbeat_interval)) say("stale_after", "must exceed the heartbeat interval");
-  if (fit.stages == pipeline::Stages::yarn)
+  if (fit.stages == pipeline::Stage::yarn)
     say("stages", "yarn: a batch runs shell or all (the yarn stage alone fits a targets file, not a database)");
   const db::Problems fit_problems = fit.problems();
   for (const auto& p : fit_problems.items()) found.add(p.file, p.line, "fit." + p.field, p.message);
@@ -37,7 +37,7 @@ nlohmann::json fit_options_json(const pipeline::PipelineOptions& o) {
                 {"full_range", o.shell.full_range},
                 {"fab_held_out", o.shell.fab_held_out},
                 {"model", shell::to_string(o.shell.model)}};
-  if (o.stages == pipeline::Stages::shell) return j;
+  if (o.stages == pipeline::Stage::shell) return j;
   const auto& y = o.yarn;
   j["yarn"] = {{"particles", y.particles},
                {"iterations", y.iterations},

@@ -16,6 +16,7 @@
 #include "fabrics_db/records/database.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "pipeline/plan.hpp"
 
 namespace yarnfit::batch {
 
@@ -139,7 +140,18 @@ void BatchRun::plan_fabric(const std::string& key, const db::FabricLoad& load, c
     ++m_summary.selected;
   }
   db::Problems problems = load.problems;
-  if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, job_options));
+  if (load.ok()) {
+    // The plan the job will run (fabric_job.cpp), on the record just hashed, into the fabric's
+    // folder, which the batch replaces.
+    pipeline::FitPlan plan;
+    plan.fabric = load.folder;
+    plan.out = fabric_output_folder(m_options.out, key);
+    plan.options = job_options;
+    plan.report = report;
+    plan.overwrite = true;
+    plan.record = *load.fabric;
+    problems.append(pipeline::check_plan(plan));
+  }
   JobRow row;
   row.fabric_id = key;
   row.family = load.family;

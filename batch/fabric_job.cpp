@@ -25,7 +25,7 @@ using nlohmann::json;
 
 namespace {
 
-std::string step_text(const reports::Progress& p) {
+std::string step_text(const numerics::Progress& p) {
   std::string s = p.stage.empty() ? std::string("running") : p.stage;
   if (p.steps > 0) s += " " + std::to_string(p.step) + "/" + std::to_string(p.steps);
   return s;
@@ -64,10 +64,10 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
                                                : std::string(pipeline::to_string(e.stage)));
     };
   }
-  const pipeline::PlanResult result = pipeline::run_plan(plan, observer);
-  if (result.fit.status == pipeline::PipelineStatus::invalid_input) return {false, result.fit.problems.to_string()};
+  const pipeline::PipelineResult result = pipeline::run_plan(plan, observer);
+  if (result.status == pipeline::PipelineStatus::invalid_input) return {false, result.problems.to_string()};
   if (!result.write_error.empty()) return {false, result.write_error};
-  if (result.fit.status != pipeline::PipelineStatus::ok) return {false, result.fit.message};
+  if (result.status != pipeline::PipelineStatus::ok) return {false, result.message};
   return {true, ""};
 }
 

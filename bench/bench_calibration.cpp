@@ -245,7 +245,7 @@ void print_recovery_goals(const Problem& p, const calibration::YarnFitResult& r,
 }
 
 calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s) {
-  s.progress = [](const reports::Progress& e) {
+  s.progress = [](const numerics::Progress& e) {
     std::fprintf(stderr, "\r  %s %d/%d  best %.4g  %.0f s      ", e.stage.c_str(), e.step, e.steps, e.best, e.seconds);
   };
   const auto r = calibration::fit_yarn_params(yarn::make_yarn_tile(p.tile), p.targets, p.scales, s);

@@ -60,8 +60,8 @@ void place_output_file(const std::string& option, const std::string& file, const
 }
 
 // A stage of a yarn command on the progress display (no steps: the rest shape, a solve).
-reports::Progress stage_event(const std::string& stage, double seconds) {
-  reports::Progress p;
+numerics::Progress stage_event(const std::string& stage, double seconds) {
+  numerics::Progress p;
   p.stage = stage;
   p.step_name.clear();
   p.seconds = seconds;
@@ -196,7 +196,7 @@ int run_yarn_curve(const YarnCurveArgs& a) {
       progress.finish();
       std::cerr << "yarn curve: s = " << db::format_g(s.chi.stretch) << ": not converged: " << s.message << "\n";
     }
-    reports::Progress p;
+    numerics::Progress p;
     p.step_name = "point";
     p.step = static_cast<int>(i) + 1;
     p.steps = static_cast<int>(stretches.size());

@@ -14,7 +14,7 @@ ProgressDisplay::ProgressDisplay(std::ostream& out, bool enabled) : m_out(out), 
 
 ProgressDisplay ProgressDisplay::for_stderr(bool quiet) { return ProgressDisplay(std::cerr, !quiet && ::isatty(STDERR_FILENO)); }
 
-std::string ProgressDisplay::line(const std::string& task, const reports::Progress& p) {
+std::string ProgressDisplay::line(const std::string& task, const numerics::Progress& p) {
   if (task != m_task) {  // another task's clock: its seconds count from its own start
     m_task = task;
     m_stage.clear();
@@ -56,7 +56,7 @@ std::string ProgressDisplay::line(const std::string& task, const reports::Progre
   return text;
 }
 
-void ProgressDisplay::update(const std::string& task, const reports::Progress& p) {
+void ProgressDisplay::update(const std::string& task, const numerics::Progress& p) {
   if (!m_enabled) return;
   const std::lock_guard lock(m_mutex);
   const bool new_task = m_shown && task != m_task;
@@ -66,9 +66,9 @@ void ProgressDisplay::update(const std::string& task, const reports::Progress& p
   m_shown = true;
 }
 
-reports::ProgressFn ProgressDisplay::callback(const std::string& task) {
+numerics::ProgressFn ProgressDisplay::callback(const std::string& task) {
   if (!m_enabled) return {};
-  return [this, task](const reports::Progress& p) { update(task, p); };
+  return [this, task](const numerics::Progress& p) { update(task, p); };
 }
 
 void ProgressDisplay::finish() {

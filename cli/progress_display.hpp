@@ -1,6 +1,6 @@
 #pragma once
 // The one progress display of the command line (SPEC §5): every long command shows its
-// reports::Progress events as one terminal line, rewritten in place —
+// numerics::Progress events as one terminal line, rewritten in place —
 //   TASK: STAGE, STEP_NAME STEP/STEPS[, DETAIL][, best LABEL VALUE UNIT], ELAPSED s[, TIME LEFT]
 // e.g. "yarn fit A2: swarm, iteration 3/10, best objective 0.0123, 41.0 s, about 96 s left in
 // this stage". The time left is the stage's mean time per step so far times the steps
@@ -13,7 +13,7 @@
 #include <mutex>
 #include <string>
 
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 
 namespace yarnfit::cli {
 
@@ -26,15 +26,15 @@ class ProgressDisplay {
 
   [[nodiscard]] bool enabled() const { return m_enabled; }
   // Shows `p` of `task` ("shell fit", "yarn fit A2"); safe to call from several threads.
-  void update(const std::string& task, const reports::Progress& p);
+  void update(const std::string& task, const numerics::Progress& p);
   // A callback for the libraries that shows their events under `task`.
-  [[nodiscard]] reports::ProgressFn callback(const std::string& task);
+  [[nodiscard]] numerics::ProgressFn callback(const std::string& task);
   // Ends the line (a newline when one was shown).
   void finish();
 
   // The line `p` makes after the events so far (what update writes after "\r\033[K"); it
   // updates the stage's timing as update does.
-  [[nodiscard]] std::string line(const std::string& task, const reports::Progress& p);
+  [[nodiscard]] std::string line(const std::string& task, const numerics::Progress& p);
 
  private:
   std::ostream& m_out;

@@ -1,6 +1,7 @@
 // Fitting a fabric through the library, without the command line: the whole pipeline (shell
-// fit → uniform targets in memory → yarn fit) on one fabric record, its errors printed, and
-// optionally the output folder `yarnfit fit` would write.
+// fit → uniform targets in memory → yarn fit) on one fabric record as a plan (pipeline/plan.hpp,
+// the one way every front end runs a fit), its errors printed, and optionally the output
+// folder `yarnfit fit` would write.
 //
 //   yarnfit_fit_through_library [FABRIC_FOLDER [OUT_DIR]]
 //
@@ -13,8 +14,7 @@
 #include <iostream>
 
 #include "calibration/fit/budget.hpp"
-#include "pipeline/outputs.hpp"
-#include "pipeline/pipeline.hpp"
+#include "pipeline/plan.hpp"
 
 #ifndef YARNFIT_SOURCE_DIR
 #define YARNFIT_SOURCE_DIR "."
@@ -36,7 +36,11 @@ int main(int argc, char** argv) {
   const std::filesystem::path fabric =
       argc > 1 ? argv[1] : std::filesystem::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
 
-  pipeline::PipelineOptions options;
+  // No output folder: the plan writes nothing, and the result holds the stages' results.
+  pipeline::FitPlan plan;
+  plan.fabric = fabric;
+  if (argc > 2) plan.out = argv[2];
+  pipeline::PipelineOptions& options = plan.options;
   options.shell.threads = 2;
   // The smallest named search (budget.hpp), smaller still: the default budget is the one to trust.
   calibration::apply_budget(calibration::Budget::quick, options.yarn);
@@ -46,8 +50,9 @@ int main(int argc, char** argv) {
   options.yarn.alternation.max_rounds = 2;
   options.yarn.threads = 2;
 
-  // Everything that could refuse the run is checked before any simulation.
-  const pipeline::PipelineResult result = pipeline::run_pipeline(fabric, options);
+  // Everything that could refuse the run is checked before any simulation (pipeline::check_plan
+  // lists the same problems without running anything).
+  const pipeline::PipelineResult result = pipeline::run_plan(plan);
   if (result.status == pipeline::PipelineStatus::invalid_input) {
     std::cerr << result.problems.to_string();
     return 2;
@@ -63,9 +68,10 @@ int main(int argc, char** argv) {
                 << pct(d.compression_pct) << "\n";
   }
   std::cout << "time: shell " << result.seconds_shell << " s, yarn " << result.seconds_yarn << " s\n";
-  if (argc > 2) {
-    const auto written = pipeline::write_outputs(result, argv[2]);
-    std::cout << "wrote " << written.files.size() << " files to " << argv[2] << "\n";
+  if (argc > 2) std::cout << "wrote " << result.outputs.files.size() << " files to " << argv[2] << "\n";
+  if (!result.write_error.empty()) {
+    std::cerr << result.write_error << "\n";
+    return 1;
   }
   if (result.status != pipeline::PipelineStatus::ok) {
     std::cerr << result.message << "\n";

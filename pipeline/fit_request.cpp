@@ -78,10 +78,4 @@ FitPlan fit_plan(const FitRequest& request, db::Problems& problems) {
   return plan;
 }
 
-PlanResult run_request(const FitRequest& request, const PlanObserver& observer) {
-  db::Problems problems;
-  const FitPlan plan = fit_plan(request, problems);
-  return run_plan(plan, observer, std::move(problems));
-}
-
 }  // namespace yarnfit::pipeline

@@ -7,8 +7,10 @@
 //
 //   pipeline::FitRequest request{"examples/fabrics/stockinette_demo", "out/demo"};
 //   request.budget = "quick";
-//   const pipeline::PlanResult r = pipeline::run_request(request);
-//   if (r.fit.status == pipeline::PipelineStatus::invalid_input) std::cerr << r.fit.problems.to_string();
+//   db::Problems problems;  // the request's own: names it cannot use
+//   const pipeline::FitPlan plan = pipeline::fit_plan(request, problems);
+//   const pipeline::PipelineResult r = pipeline::run_plan(plan, {}, std::move(problems));
+//   if (r.status == pipeline::PipelineStatus::invalid_input) std::cerr << r.problems.to_string();
 
 #include <cstdint>
 #include <filesystem>
@@ -74,9 +76,5 @@ struct FitRequest {
 // The plan of `request` (its options from pipeline_options; a resumed yarn fit may find its
 // output files).
 [[nodiscard]] FitPlan fit_plan(const FitRequest& request, db::Problems& problems);
-
-// The plan of `request`, run: its problems and the plan's (check_plan) all refused at once,
-// before any work.
-PlanResult run_request(const FitRequest& request, const PlanObserver& observer = {});
 
 }  // namespace yarnfit::pipeline

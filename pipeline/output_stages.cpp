@@ -13,8 +13,8 @@ class WriteStage final : public OutputStage {
   void check(const FitPlan& plan, const db::FabricLoad&, db::Problems& problems) const override {
     problems.append(output_problems(plan.out, output_files(plan.options.stages), plan.overwrite));
   }
-  void run(const FitPlan& plan, const std::string&, PlanResult& result, const PlanObserver&) const override {
-    result.outputs = write_outputs(result.fit, plan.out);
+  void run(const FitPlan& plan, const std::string&, PipelineResult& result, const PlanObserver&) const override {
+    result.outputs = write_outputs(result, plan.out);
   }
 };
 
@@ -27,10 +27,10 @@ class ExportStage final : public OutputStage {
     for (const exports::ExportFormat format : plan.options.exports)
       problems.append(output_problems(plan.out, {exports::export_path(format, load.id).string()}, plan.overwrite));
   }
-  void run(const FitPlan& plan, const std::string& fabric_id, PlanResult& result,
+  void run(const FitPlan& plan, const std::string& fabric_id, PipelineResult& result,
            const PlanObserver& observer) const override {
-    if (observer) observer({Stage::exports, fabric_id, reports::Progress{}});
-    if (!result.fit.shell || !result.fit.shell->usable()) {
+    if (observer) observer({Stage::exports, fabric_id, numerics::Progress{}});
+    if (!result.shell || !result.shell->usable()) {
       result.outputs.text += "exports: none written: the shell fit has no usable law\n";
       return;
     }
@@ -59,9 +59,9 @@ class ReportStage final : public OutputStage {
   void check(const FitPlan& plan, const db::FabricLoad&, db::Problems& problems) const override {
     problems.append(output_problems(plan.out, report_files(), plan.overwrite));
   }
-  void run(const FitPlan& plan, const std::string& fabric_id, PlanResult& result,
+  void run(const FitPlan& plan, const std::string& fabric_id, PipelineResult& result,
            const PlanObserver& observer) const override {
-    if (observer) observer({Stage::report, fabric_id, reports::Progress{}});
+    if (observer) observer({Stage::report, fabric_id, numerics::Progress{}});
     std::vector<reports::RunOutputs> runs{reports::read_fit_folders(plan.out)};
     // The report lies in the folder it describes: its name says enough, and a fit run for
     // someone else (the service's) shows nothing of where the server keeps it.

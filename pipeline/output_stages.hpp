@@ -20,7 +20,7 @@ class OutputStage {
   virtual void check(const FitPlan& plan, const db::FabricLoad& load, db::Problems& problems) const = 0;
   // Writes its files into plan.out from `result`, adding them and their text to result.outputs;
   // throws for a file that cannot be written.
-  virtual void run(const FitPlan& plan, const std::string& fabric_id, PlanResult& result,
+  virtual void run(const FitPlan& plan, const std::string& fabric_id, PipelineResult& result,
                    const PlanObserver& observer) const = 0;
 };
 

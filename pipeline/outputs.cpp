@@ -12,15 +12,15 @@ namespace yarnfit::pipeline {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string>& output_files(Stages stages) {
+const std::vector<std::string>& output_files(Stage stages) {
   static const std::vector<std::string> shell{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv"};
   static const std::vector<std::string> yarn{"yarn_fit.json", "yarn_curves.csv", "yarn_summary.txt", "tile.pyp"};
   static const std::vector<std::string> all{"shell_fit.json", "uniform_targets.csv", "shell_curves.csv", "yarn_fit.json",
                                             "yarn_curves.csv", "summary.txt",         "tile.pyp"};
   switch (stages) {
-    case Stages::shell: return shell;
-    case Stages::yarn: return yarn;
-    case Stages::all: break;
+    case Stage::shell: return shell;
+    case Stage::yarn: return yarn;
+    default: break;
   }
   return all;
 }

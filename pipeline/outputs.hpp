@@ -23,7 +23,7 @@ namespace yarnfit::pipeline {
 // shell_curves.csv; yarn: yarn_fit.json, yarn_curves.csv, yarn_summary.txt; all: the shell
 // stage's, then yarn_fit.json, yarn_curves.csv and summary.txt), and those of the one-fabric
 // report under the folder.
-[[nodiscard]] const std::vector<std::string>& output_files(Stages stages);
+[[nodiscard]] const std::vector<std::string>& output_files(Stage stages);
 [[nodiscard]] const std::vector<std::string>& report_files();
 
 // Problems with writing `files` into `folder`: the folder is a file, or (unless `overwrite`)
@@ -32,16 +32,7 @@ namespace yarnfit::pipeline {
 [[nodiscard]] db::Problems output_problems(const std::filesystem::path& folder, const std::vector<std::string>& files,
                                            bool overwrite);
 
-// What write_outputs wrote.
-struct PipelineOutputs {
-  std::vector<std::string> files;  // names written into the folder, in order
-  std::string summary;             // summary.txt or yarn_summary.txt's summary (empty when the yarn stage did not run)
-  // What a terminal shows of them: the shell stage's report, the summary and where the files
-  // are.
-  std::string text;
-};
-
-// Writes the folder (created if needed) from a result of run_pipeline, for the stages that
+// Writes the folder (created if needed) from a fit's result (run_plan), for the stages that
 // ran: after the shell stage shell_fit.json and uniform_targets.csv, and when its model is
 // usable shell_curves.csv; after the yarn stage yarn_fit.json, yarn_curves.csv and
 // summary.txt (yarn_summary.txt when it ran alone). Nothing for an invalid input. Throws

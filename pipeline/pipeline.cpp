@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "fabrics_db/records/fabric_reader.hpp"
 #include "pipeline/stage_plan.hpp"
 
 namespace yarnfit::pipeline {
@@ -16,22 +15,25 @@ void add_prefixed(db::Problems& out, const db::Problems& in, const std::string& 
 
 }  // namespace
 
-const char* to_string(Stages stages) {
-  switch (stages) {
-    case Stages::shell: return "shell";
-    case Stages::yarn: return "yarn";
-    case Stages::all: break;
+const char* to_string(Stage stage) {
+  switch (stage) {
+    case Stage::all: return "all";
+    case Stage::tile: return "tile";
+    case Stage::shell: return "shell";
+    case Stage::targets: return "targets";
+    case Stage::yarn: return "yarn";
+    case Stage::exports: return "export";
+    case Stage::report: return "report";
   }
-  return "all";
+  return "?";
 }
 
-bool runs_shell(Stages stages) { return stages != Stages::yarn; }
-bool runs_yarn(Stages stages) { return stages != Stages::shell; }
+bool runs_shell(Stage stages) { return stages == Stage::all || stages == Stage::shell; }
+bool runs_yarn(Stage stages) { return stages == Stage::all || stages == Stage::yarn; }
 
-std::optional<Stages> stages_from_string(std::string_view name) {
-  if (name == "shell") return Stages::shell;
-  if (name == "yarn") return Stages::yarn;
-  if (name == "all") return Stages::all;
+std::optional<Stage> stages_from_string(std::string_view name) {
+  for (const Stage s : {Stage::all, Stage::shell, Stage::yarn})
+    if (name == to_string(s)) return s;
   return std::nullopt;
 }
 
@@ -57,40 +59,14 @@ db::Problems export_option_problems(const PipelineOptions& options) {
 }
 
 db::Problems PipelineOptions::problems() const {
-  db::Problems out = shell_option_problems(*this);
+  db::Problems out;
+  if (!stages_from_string(to_string(stages)))
+    out.add("", 0, "stages", std::string("a fit runs all its stages, or the shell or the yarn fit alone, not '") +
+                                 to_string(stages) + "'");
+  out.append(shell_option_problems(*this));
   if (runs_yarn(stages)) out.append(yarn_option_problems(*this));
   out.append(export_option_problems(*this));
   return out;
-}
-
-db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options) {
-  PlanState state = new_plan_state(fabric, options);
-  db::Problems problems;
-  StagePlan(options.stages).check(state, problems);
-  return problems;
-}
-
-PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options) {
-  PlanState state = new_plan_state(fabric, options);
-  const StagePlan stages(options.stages);
-  db::Problems problems;
-  stages.check(state, problems);
-  if (problems.empty()) return stages.run(std::move(state));
-  refuse(state.result, std::move(problems));
-  return std::move(state.result);
-}
-
-PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const PipelineOptions& options) {
-  const db::FabricLoad load = db::load_fabric(fabric_folder);
-  if (load.ok()) return run_pipeline(*load.fabric, options);
-  PipelineResult result;
-  result.fabric_id = load.id;
-  result.fabric_folder = fabric_folder;
-  db::Problems problems = load.problems;
-  problems.append(options.problems());
-  refuse(result, std::move(problems));
-  result.message = "invalid fabric record: nothing was run";
-  return result;
 }
 
 results::ShellFitFile shell_fit_file(const PipelineResult& result) {

@@ -1,15 +1,9 @@
 #pragma once
-// The whole pipeline for one fabric as a library call (SPEC §1, §5 `yarnfit fit`): the shell
-// stage (shell_fit/fit/shell_fit.hpp) fits the shell model and makes the uniform targets,
-// which go in memory to the yarn stage (calibration/problem/yarn_fit_problem.hpp). Everything
-// that could refuse the run — options, the record's yarn-fit requirements, the --start file —
-// is checked before the shell stage starts, and every problem is listed.
-//
-//   pipeline::PipelineOptions options;
-//   options.yarn.particles = 16;
-//   const auto result = pipeline::run_pipeline("examples/fabrics/stockinette_demo", options);
-//   if (result.status == pipeline::PipelineStatus::invalid_input) std::cerr << result.problems.to_string();
-//   pipeline::write_pipeline_outputs(result, "out/stockinette_demo");
+// The options and the result of a fit of one fabric (SPEC §1, §5): the shell stage
+// (shell_fit/fit/shell_fit.hpp) fits the shell model and makes the uniform targets, which go
+// in memory to the yarn stage (calibration/problem/yarn_fit_problem.hpp). A fit runs one way,
+// as a plan (pipeline/plan.hpp: check_plan, run_plan), whoever asks for it: the command line,
+// a batch job, the service, a library user.
 
 #include <filesystem>
 #include <optional>
@@ -30,16 +24,19 @@
 
 namespace yarnfit::pipeline {
 
-// Which stages run: the shell fit and its uniform targets only, the yarn fit alone on targets
-// read from a file, or the whole pipeline.
-enum class Stages { shell, yarn, all };
-[[nodiscard]] const char* to_string(Stages stages);  // "shell", "yarn", "all"
-[[nodiscard]] bool runs_shell(Stages stages);
-[[nodiscard]] bool runs_yarn(Stages stages);
-[[nodiscard]] std::optional<Stages> stages_from_string(std::string_view name);
+// The stages of a fit in the order they run (a plan's events name the one running), and what
+// a fit is asked to run: `all` of them, or the shell or the yarn fit alone (the yarn fit then
+// on targets read from a file). exports and report run after the fit when the plan asks.
+enum class Stage { all, tile, shell, targets, yarn, exports, report };
+[[nodiscard]] const char* to_string(Stage stage);  // "all", "tile", "shell", …, "export", "report"
+// Whether a fit asked to run `stages` (all, shell or yarn) runs the shell and the yarn fit.
+[[nodiscard]] bool runs_shell(Stage stages);
+[[nodiscard]] bool runs_yarn(Stage stages);
+// What a user may ask to run: "all", "shell" or "yarn"; nullopt for anything else.
+[[nodiscard]] std::optional<Stage> stages_from_string(std::string_view name);
 
 struct PipelineOptions {
-  Stages stages = Stages::all;
+  Stage stages = Stage::all;  // all, shell or yarn
   shell::ShellFitOptions shell;
   calibration::YarnFitSettings yarn;
   // The shape of a tile generated without a gauge, fitted with the yarn parameters.
@@ -47,7 +44,7 @@ struct PipelineOptions {
   // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
   // whatever yarn.swarm says (calibration::settings_for).
   std::filesystem::path start;
-  // Stages::yarn: the uniform targets the yarn stage fits (uniform_targets.csv as the shell
+  // Stage::yarn: the uniform targets the yarn stage fits (uniform_targets.csv as the shell
   // stage writes it).
   std::filesystem::path targets;
   // The formats the fitted fabric is exported to once the fit is written (stage "export",
@@ -57,9 +54,9 @@ struct PipelineOptions {
   // (calibration/problem/generated_pattern.hpp); required for such records.
   std::filesystem::path tile_cache;
 
-  // Every invalid field, named "shell.<field>" or "yarn.<field>" (shell::ShellFitOptions,
-  // calibration::YarnFitSettings; the yarn settings only when the yarn stage runs); empty
-  // when both are usable.
+  // Every invalid field, named "stages", "shell.<field>" or "yarn.<field>"
+  // (shell::ShellFitOptions, calibration::YarnFitSettings; the yarn settings only when the
+  // yarn stage runs); empty when both are usable.
   [[nodiscard]] db::Problems problems() const;
 };
 
@@ -70,6 +67,16 @@ enum class PipelineStatus {
   yarn_failed,    // the yarn fit ran and failed (it still has a result)
 };
 
+// What the plan wrote (write_outputs and the exports and report after it).
+struct PipelineOutputs {
+  std::vector<std::string> files;  // names written into the folder, in order
+  std::string summary;             // summary.txt or yarn_summary.txt's summary (empty when the yarn stage did not run)
+  // What a terminal shows of them: the shell stage's report, the summary and where the files
+  // are.
+  std::string text;
+};
+
+// A fit's result: its status, the stages' results and the files written.
 struct PipelineResult {
   PipelineStatus status = PipelineStatus::invalid_input;
   db::Problems problems;  // invalid_input: every problem found before any work
@@ -89,31 +96,22 @@ struct PipelineResult {
   std::optional<db::PeriodicTile> fitted_tile;
   std::optional<results::FittedTileRecord> fitted_tile_record;  // yarn_fit.json's `tile` (pipeline/fitted_tile.hpp)
   calibration::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
-  Stages stages = Stages::all;
+  Stage stages = Stage::all;
   double seconds_shell = 0.0;  // from the start (the record read) to the shell stage's end
   double seconds_yarn = 0.0;
   double seconds_total = 0.0;
+
+  // The output folder (none for a plan without one).
+  PipelineOutputs outputs;             // the files written and the text a terminal shows of them
+  std::filesystem::path report_index;  // out/report/index.html when the report was written
+  std::string write_error;             // a file that could not be written (the run then stops there)
+  [[nodiscard]] bool ok() const { return status == PipelineStatus::ok && write_error.empty(); }
 };
-
-// Everything run_pipeline would refuse for this fabric: the options' problems, the record's
-// (no pattern, no yarn stiffness, an unusable tile: only when the yarn stage runs), the start
-// file's and the targets file's. Fast: no simulation.
-[[nodiscard]] db::Problems pipeline_problems(const db::Fabric& fabric, const PipelineOptions& options);
-
-// Runs the stages on `fabric` (with Stages::shell the result is ok once the shell fit
-// converged or stopped at its iteration cap with a usable model (ShellFitResult::usable, said
-// in shell_fit.json; `message` then says why it did not converge), and has no yarn problem or
-// result; with Stages::yarn there is no shell result). Never throws for bad input or a failed fit:
-// the status says.
-PipelineResult run_pipeline(const db::Fabric& fabric, const PipelineOptions& options);
-// The same on the record in `fabric_folder` (read and validated first; its problems are the
-// result's when it is invalid).
-PipelineResult run_pipeline(const std::filesystem::path& fabric_folder, const PipelineOptions& options);
 
 // The stages' results as their files hold them (SPEC §5; results/). yarn_fit.json names its
 // targets `targets_file`: the file the shell stage's targets are written to.
 results::ShellFitFile shell_fit_file(const PipelineResult& result);
-// With Stages::yarn the targets are the file the options name, whatever `targets_file` says.
+// With Stage::yarn the targets are the file the options name, whatever `targets_file` says.
 results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::filesystem::path& targets_file);
 
 }  // namespace yarnfit::pipeline

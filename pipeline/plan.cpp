@@ -19,8 +19,8 @@ PipelineOptions stage_options(const FitPlan& plan, const std::string& fabric_id,
   PipelineOptions o = plan.options;
   if (o.tile_cache.empty()) o.tile_cache = plan.out;
   if (observer) {
-    o.shell.progress = [observer, fabric_id](const reports::Progress& p) { observer({Stage::shell, fabric_id, p}); };
-    o.yarn.progress = [observer, fabric_id](const reports::Progress& p) { observer({Stage::yarn, fabric_id, p}); };
+    o.shell.progress = [observer, fabric_id](const numerics::Progress& p) { observer({Stage::shell, fabric_id, p}); };
+    o.yarn.progress = [observer, fabric_id](const numerics::Progress& p) { observer({Stage::yarn, fabric_id, p}); };
   }
   return o;
 }
@@ -42,41 +42,45 @@ std::optional<PlanState> checked_state(const FitPlan& plan, const db::FabricLoad
   return state;
 }
 
-}  // namespace
-
-const char* to_string(Stage stage) {
-  switch (stage) {
-    case Stage::tile: return "tile";
-    case Stage::shell: return "shell";
-    case Stage::targets: return "targets";
-    case Stage::yarn: return "yarn";
-    case Stage::exports: return "export";
-    case Stage::report: return "report";
-  }
-  return "?";
+// The plan's record: the one it holds, or the one its folder holds (with the reader's problems).
+db::FabricLoad record_of(const FitPlan& plan) {
+  if (!plan.record) return db::load_fabric(plan.fabric);
+  db::FabricLoad load;
+  load.folder = plan.record->folder.empty() ? plan.fabric : plan.record->folder;
+  load.id = plan.record->id;
+  load.family = plan.record->family;
+  load.fabric = plan.record;
+  return load;
 }
 
+// What runs once the stages ran: nothing for a plan without an output folder.
+OutputStages outputs_of(const FitPlan& plan) { return plan.out.empty() ? OutputStages{} : output_stages(plan); }
+
+}  // namespace
+
 db::Problems check_plan(const FitPlan& plan) {
-  const db::FabricLoad load = db::load_fabric(plan.fabric);
+  const db::FabricLoad load = record_of(plan);
   db::Problems problems;
-  (void)checked_state(plan, load, stage_options(plan, load.id, {}), StagePlan(plan.options.stages), output_stages(plan),
+  (void)checked_state(plan, load, stage_options(plan, load.id, {}), StagePlan(plan.options.stages), outputs_of(plan),
                       problems);
   return problems;
 }
 
-PlanResult run_plan(const FitPlan& plan, const PlanObserver& observer, db::Problems problems) {
-  PlanResult result;
-  const db::FabricLoad load = db::load_fabric(plan.fabric);
+PipelineResult run_plan(const FitPlan& plan, const PlanObserver& observer, db::Problems problems) {
+  const db::FabricLoad load = record_of(plan);
   const StagePlan stages(plan.options.stages);
-  const OutputStages outputs = output_stages(plan);
+  const OutputStages outputs = outputs_of(plan);
   std::optional<PlanState> state =
       checked_state(plan, load, stage_options(plan, load.id, observer), stages, outputs, problems);
   if (!problems.empty()) {
-    refuse(result.fit, std::move(problems));
-    return result;
+    PipelineResult refused;
+    refused.fabric_id = load.id;
+    refused.fabric_folder = plan.fabric;
+    refuse(refused, std::move(problems));
+    return refused;
   }
-  result.fit = stages.run(std::move(*state));
-  if (result.fit.status == PipelineStatus::invalid_input) return result;
+  PipelineResult result = stages.run(std::move(*state));
+  if (result.status == PipelineStatus::invalid_input) return result;
   try {
     for (const auto& output : outputs) output->run(plan, load.id, result, observer);
   } catch (const std::exception& e) {

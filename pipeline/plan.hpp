@@ -1,39 +1,42 @@
 #pragma once
-// A fit as a plan of stages (SPEC §1, §5): the tile a knit's pattern names, the shell fit, its
-// uniform targets, the yarn fit and the one-fabric report, each optional. `yarnfit fit`,
-// `shell fit`, `yarn fit`, a batch job and a service job all run one, so there is one order of
-// stages and one set of output files: check_plan lists every problem before any work,
-// run_plan runs the stages with one observer and writes the folder, each file whole.
+// A fit as a plan of stages (SPEC §1, §5), the one way a fit runs: the tile a knit's pattern
+// names, the shell fit, its uniform targets, the yarn fit, then the files, the exports and the
+// one-fabric report, each optional. `yarnfit fit`, `shell fit`, `yarn fit`, a batch job, a
+// service job and a library user all run one, so there is one order of stages, one check and
+// one set of output files: check_plan lists every problem before any work, run_plan checks
+// the same, runs the stages with one observer and writes the folder, each file whole.
 //
 //   pipeline::FitPlan plan{"examples/fabrics/stockinette_demo", "out/demo"};
-//   plan.options = pipeline::pipeline_options(request, problems);  // pipeline/fit_request.hpp
+//   plan.options.yarn.particles = 16;  // or pipeline::fit_plan(request, problems) (fit_request.hpp)
 //   plan.report = true;
-//   const pipeline::PlanResult r = pipeline::run_plan(plan, [](const pipeline::StageEvent& e) { … });
+//   const pipeline::PipelineResult r = pipeline::run_plan(plan, [](const pipeline::StageEvent& e) { … });
+//   if (r.status == pipeline::PipelineStatus::invalid_input) std::cerr << r.problems.to_string();
 //   std::cout << r.outputs.text;
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "fabrics_db/problems.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 
 namespace yarnfit::pipeline {
 
-// The stages in the order they run.
-enum class Stage { tile, shell, targets, yarn, exports, report };
-[[nodiscard]] const char* to_string(Stage stage);
-
 struct FitPlan {
   std::filesystem::path fabric;  // the record's folder
-  std::filesystem::path out;     // the output folder
+  // The output folder; empty: nothing is written (the result holds the stages' results only).
+  std::filesystem::path out;
   // Which of shell, targets and yarn run, and their settings; a knit's generated tile is kept
   // in options.tile_cache, or in `out` when that is empty.
   PipelineOptions options;
   bool report = false;     // the one-fabric report out/report/ (what `yarnfit report out` writes)
   bool overwrite = false;  // replace output files that exist; otherwise each is a problem
+  // The record itself, already read (a batch checks the record it hashed; a test edits one in
+  // memory); when empty it is read from `fabric`.
+  std::optional<db::Fabric> record;
 };
 
 // Progress of the stage that runs: the shell and yarn fits' events, and one when the exports
@@ -41,17 +44,9 @@ struct FitPlan {
 struct StageEvent {
   Stage stage = Stage::shell;
   std::string fabric_id;
-  reports::Progress progress;
+  numerics::Progress progress;
 };
 using PlanObserver = std::function<void(const StageEvent&)>;
-
-struct PlanResult {
-  PipelineResult fit;       // status, problems and message of the stages
-  PipelineOutputs outputs;  // the files written and the text a terminal shows of them
-  std::filesystem::path report_index;  // out/report/index.html when the report was written
-  std::string write_error;  // a file that could not be written (the run then stops there)
-  [[nodiscard]] bool ok() const { return fit.status == PipelineStatus::ok && write_error.empty(); }
-};
 
 // Everything run_plan would refuse, without any work: the record's problems, the options', the
 // record's yarn-stage requirements, the start and targets files', and the output files that
@@ -62,6 +57,6 @@ struct PlanResult {
 // failed stage: it says why). `problems` found before (a request's, fit_request.hpp) are
 // refused with the plan's. Never throws for bad input, a failed fit or a file that cannot be
 // written: the result says.
-PlanResult run_plan(const FitPlan& plan, const PlanObserver& observer = {}, db::Problems problems = {});
+PipelineResult run_plan(const FitPlan& plan, const PlanObserver& observer = {}, db::Problems problems = {});
 
 }  // namespace yarnfit::pipeline

@@ -68,11 +68,11 @@ class ShellStage final : public PlanStage {
 };
 
 // targets: what the yarn fit fits, the shell stage's in memory (as uniform_targets.csv holds
-// them) or, with Stages::yarn, the targets file's (read by the check).
+// them) or, with Stage::yarn, the targets file's (read by the check).
 class TargetsStage final : public PlanStage {
  public:
   void check(PlanState& state, db::Problems& problems) const override {
-    if (state.options.stages != Stages::yarn) return;
+    if (state.options.stages != Stage::yarn) return;
     if (state.options.targets.empty()) problems.add("", 0, "targets", "the yarn stage alone needs a targets file");
     else state.file_targets = db::read_uniform_targets(state.options.targets, problems);
   }
@@ -185,7 +185,7 @@ void refuse(PipelineResult& result, db::Problems problems) {
   result.yarn_problem.reset();
 }
 
-StagePlan::StagePlan(Stages stages) {
+StagePlan::StagePlan(Stage stages) {
   if (runs_yarn(stages)) m_stages.push_back(std::make_unique<TileStage>());
   if (runs_shell(stages)) m_stages.push_back(std::make_unique<ShellStage>());
   if (runs_yarn(stages)) {

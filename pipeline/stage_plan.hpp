@@ -1,7 +1,7 @@
 #pragma once
 // The stages of a fit as objects of one kind (SPEC §1, §5): each checks, before any stage runs,
 // everything that would refuse it (reading the files it needs), and each runs on what the
-// stages before it left in the plan's state. run_pipeline and run_plan (plan.hpp) both run a
+// stages before it left in the plan's state. run_plan (plan.hpp) runs a
 // StagePlan, so there is one order of stages and one place where each stage's work is called.
 //
 //   PlanState state = new_plan_state(fabric, options);
@@ -23,7 +23,7 @@ struct PlanState {
   PipelineOptions options;
   db::Fabric fabric;
   numerics::Clock::time_point start;  // when the plan began (the stages' seconds count from it)
-  std::optional<std::vector<db::DirectionTargets>> file_targets;  // Stages::yarn: the targets file's
+  std::optional<std::vector<db::DirectionTargets>> file_targets;  // Stage::yarn: the targets file's
   // What the stages made; its yarn problem is made by the yarn stage's check, or by the tile
   // stage once the tile exists.
   PipelineResult result;
@@ -51,10 +51,10 @@ class PlanStage {
 };
 
 // The stages `stages` names, in their order: tile (a knit's tile generated, only when the yarn
-// fit runs), shell, targets (the shell's in memory, or the file's with Stages::yarn), yarn.
+// fit runs), shell, targets (the shell's in memory, or the file's with Stage::yarn), yarn.
 class StagePlan {
  public:
-  explicit StagePlan(Stages stages);
+  explicit StagePlan(Stage stages);
   // Every stage's check, problems appended in stage order.
   void check(PlanState& state, db::Problems& problems) const;
   // The stages in order on a checked state, until one ends the plan; never throws for bad

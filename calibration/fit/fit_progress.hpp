@@ -1,17 +1,17 @@
 #pragma once
-// The yarn fit's progress events (reports/progress.hpp): every stage reports its best objective.
+// The yarn fit's progress events (numerics/progress.hpp): every stage reports its best objective.
 
 #include <string>
 
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 
 namespace yarnfit::calibration {
 
 // A progress event of the fit: the best objective of the stage and its planned steps (`budget`:
 // the stage may stop before them, as the local step before its evaluation budget).
-inline reports::Progress fit_progress(const std::string& stage, const char* step_name, int step, int steps, bool budget,
+inline numerics::Progress fit_progress(const std::string& stage, const char* step_name, int step, int steps, bool budget,
                                       double best, double seconds) {
-  reports::Progress p;
+  numerics::Progress p;
   p.stage = stage;
   p.step_name = step_name;
   p.step = step;

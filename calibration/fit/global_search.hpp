@@ -28,7 +28,7 @@
 
 #include "calibration/objective/yarn_objective.hpp"
 #include "fabrics_db/problems.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 #include "swarm/particle_swarm.hpp"
 
 namespace yarnfit::calibration {
@@ -101,7 +101,7 @@ struct GlobalSearchInput {
   bool cutoff = true;             // stop a swarm candidate once it cannot beat its particle's best
   std::filesystem::path checkpoint;  // swarm stages write <checkpoint>.<stage> (empty: none)
   bool resume = false;
-  reports::ProgressFn progress;
+  numerics::ProgressFn progress;
   std::function<double()> elapsed;  // seconds since the fit started, for progress
   std::function<bool()> keep_going;  // polled after every swarm iteration (empty: go on)
   // The rescore's result from a checkpoint (then it is not evaluated again), and where a new one

@@ -33,7 +33,7 @@
 #include "calibration/objective/bending_check.hpp"
 #include "calibration/objective/yarn_objective.hpp"
 #include "fabrics_db/problems.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 #include "swarm/cobyla.hpp"
 #include "swarm/implicit_filtering.hpp"
 #include "swarm/particle_swarm.hpp"
@@ -100,7 +100,7 @@ struct YarnFitSettings {
   // Progress per swarm iteration (stage "contact", "all" or "swarm", the iterations planned),
   // after the rescore, and per local evaluation (stage "local"): best objective so far,
   // seconds since the start of the fit.
-  reports::ProgressFn progress;
+  numerics::ProgressFn progress;
 
   // Every invalid field, each named as above ("particles", "swarm_samples", …); empty when
   // the settings are usable. Checked before any work starts.

@@ -81,7 +81,16 @@ batch::BatchFabric fabric_of_request(const fs::path& runs, const std::string& ke
   f.fit.tile_cache = batch::generated_tiles_folder(runs);
   const db::FabricLoad load = db::load_fabric(record);
   problems.append(load.problems);
-  if (load.ok()) problems.append(pipeline::pipeline_problems(*load.fabric, f.fit));
+  if (load.ok()) {
+    // The plan the batch will run, checked on the record just read; its output folder is the
+    // batch's to choose and replace, so none is checked here.
+    pipeline::FitPlan plan;
+    plan.fabric = record;
+    plan.options = f.fit;
+    plan.report = f.report;
+    plan.record = *load.fabric;
+    problems.append(pipeline::check_plan(plan));
+  }
   f.fit.tile_cache.clear();  // the batch sets it for each job
   return f;
 }

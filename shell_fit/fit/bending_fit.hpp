@@ -35,7 +35,7 @@
 
 #include "fabrics_db/records/fabric.hpp"
 #include "shell_fit/core/shell_params.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 #include "shell_fit/scenes/pear_loop.hpp"
 
 namespace yarnfit::shell {
@@ -52,7 +52,7 @@ struct BendingFitOptions {
   int threads = 1;              // directions simulated in parallel
   double gravity = 9.81;        // [m/s²]
   // Called after every iteration and every trial of the start search.
-  reports::ProgressFn progress;
+  numerics::ProgressFn progress;
 };
 
 struct BendingDirectionFit {

@@ -14,7 +14,7 @@
 #include <utility>
 
 #include "numerics/util/clock.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 
 namespace yarnfit::shell {
 
@@ -24,7 +24,7 @@ namespace yarnfit::shell {
 // seconds since `start`.
 class ProgressCallback : public ceres::IterationCallback {
  public:
-  ProgressCallback(reports::ProgressFn fn, numerics::Clock::time_point start,
+  ProgressCallback(numerics::ProgressFn fn, numerics::Clock::time_point start,
                    std::function<double(double)> error_of)
       : m_fn(std::move(fn)), m_start(start), m_error_of(std::move(error_of)) {}
   // A new stage: its name, its budget of iterations (0: unknown) and what a step is.
@@ -37,7 +37,7 @@ class ProgressCallback : public ceres::IterationCallback {
   void report(int iteration, double cost) {
     if (std::isfinite(cost)) m_best = std::min(m_best, m_error_of(cost));
     if (!m_fn) return;
-    reports::Progress p;
+    numerics::Progress p;
     p.stage = m_stage;
     p.step_name = m_step_name;
     p.step = iteration;
@@ -56,7 +56,7 @@ class ProgressCallback : public ceres::IterationCallback {
   [[nodiscard]] bool active() const { return static_cast<bool>(m_fn); }
 
  private:
-  reports::ProgressFn m_fn;
+  numerics::ProgressFn m_fn;
   numerics::Clock::time_point m_start;
   std::function<double(double)> m_error_of;
   std::string m_stage;

@@ -30,7 +30,7 @@
 
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/records/fabric_summary.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 #include "shell_fit/core/shell_params.hpp"
 #include "shell_fit/scenes/clamped_stretch.hpp"
 
@@ -78,7 +78,7 @@ struct InplaneFitOptions {
   // real data jump by orders of magnitude in log space to trial points where the scenes
   // cannot reach equilibrium.
   double initial_trust_region_radius = 1.0;
-  reports::ProgressFn progress;  // called after every iteration
+  numerics::ProgressFn progress;  // called after every iteration
 };
 
 struct DirectionFit {

@@ -106,8 +106,8 @@ ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& option
     if (options.progress) {
       // The stage's clock: the bending fit counts from its own start.
       const double offset = result.inplane.seconds;
-      bending.progress = [fn = options.progress, offset](const reports::Progress& p) {
-        reports::Progress q = p;
+      bending.progress = [fn = options.progress, offset](const numerics::Progress& p) {
+        numerics::Progress q = p;
         q.seconds += offset;
         fn(q);
       };

@@ -23,7 +23,7 @@
 #include "fabrics_db/problems.hpp"
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
-#include "reports/progress.hpp"
+#include "numerics/progress.hpp"
 #include "results/shell_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
@@ -47,7 +47,7 @@ struct ShellFitOptions {
   std::vector<std::string> fab_held_out = k_default_fab_held_out;
   FabBendOptions fab_bends;  // the loop-bend fit of k_θ (library callers only)
   // Progress of both fits; seconds count from the start of the stage.
-  reports::ProgressFn progress;
+  numerics::ProgressFn progress;
 
   // Every invalid field, each named ("mesh", "refinements", …); empty when all are usable.
   [[nodiscard]] db::Problems problems() const;

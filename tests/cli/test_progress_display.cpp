@@ -13,8 +13,8 @@
 namespace yarnfit::cli {
 namespace {
 
-reports::Progress event(const std::string& stage, int step, int steps, double seconds, bool budget = false) {
-  reports::Progress p;
+numerics::Progress event(const std::string& stage, int step, int steps, double seconds, bool budget = false) {
+  numerics::Progress p;
   p.stage = stage;
   p.step = step;
   p.steps = steps;
@@ -34,7 +34,7 @@ TEST(ProgressDisplay, StageStepBestElapsedAndTimeLeftFromTheStagesPace) {
   EXPECT_EQ(d.line("yarn fit A2", event("swarm", 2, 10, 4.0)),
             "yarn fit A2: swarm, iteration 2/10, best objective 0.0123, 4.0 s, about 16 s left in this stage");
   // A new stage is timed from the previous stage's last event; a budget is an upper bound.
-  reports::Progress local = event("local", 3, 40, 7.0, true);
+  numerics::Progress local = event("local", 3, 40, 7.0, true);
   local.step_name = "evaluation";
   local.step = 1;
   EXPECT_EQ(d.line("yarn fit A2", local),
@@ -47,7 +47,7 @@ TEST(ProgressDisplay, StageStepBestElapsedAndTimeLeftFromTheStagesPace) {
 TEST(ProgressDisplay, UnitsDetailsAndStagelessTasks) {
   std::ostringstream out;
   ProgressDisplay d(out, true);
-  reports::Progress shell = event("in-plane (weft, warp) start 1/3", 1, 8, 0.5, true);
+  numerics::Progress shell = event("in-plane (weft, warp) start 1/3", 1, 8, 0.5, true);
   shell.best = 1.234;
   shell.best_label = "rms error";
   shell.best_unit = "%";
@@ -55,14 +55,14 @@ TEST(ProgressDisplay, UnitsDetailsAndStagelessTasks) {
                                              "1.234 %, 0.5 s, at most ",
                                              0),
             0u);
-  reports::Progress point;
+  numerics::Progress point;
   point.step_name = "point";
   point.step = 1;
   point.steps = 2;
   point.detail = "s = 0.05";
   point.seconds = 3.0;
   EXPECT_EQ(d.line("yarn curve weft", point), "yarn curve weft: point 1/2, s = 0.05, 3.0 s, about 3 s left");
-  reports::Progress before_any = event("swarm", 0, 10, 0.0);
+  numerics::Progress before_any = event("swarm", 0, 10, 0.0);
   before_any.best = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(d.line("yarn fit", before_any).find("best objective -, "), std::string::npos);
 }

@@ -15,15 +15,15 @@ using yarnfit::testing::write_file;
 
 TEST(Outputs, ExistingFilesAreRefusedUnlessOverwriting) {
   ScratchDir dir("outputs");
-  EXPECT_TRUE(output_problems(dir / "new", output_files(Stages::all), false).empty());
+  EXPECT_TRUE(output_problems(dir / "new", output_files(Stage::all), false).empty());
   write_file(dir / "out" / "yarn_fit.json", "mine\n");
   write_file(dir / "out" / "summary.txt", "mine\n");
-  const auto problems = output_problems(dir / "out", output_files(Stages::all), false);
+  const auto problems = output_problems(dir / "out", output_files(Stage::all), false);
   EXPECT_EQ(problems.to_string(), (dir / "out" / "yarn_fit.json").string() + ": exists (use --force to replace it)\n" +
                                       (dir / "out" / "summary.txt").string() + ": exists (use --force to replace it)\n");
-  EXPECT_TRUE(output_problems(dir / "out", output_files(Stages::all), true).empty());
+  EXPECT_TRUE(output_problems(dir / "out", output_files(Stage::all), true).empty());
   write_file(dir / "file", "x");
-  EXPECT_EQ(output_problems(dir / "file", output_files(Stages::yarn), true).to_string(),
+  EXPECT_EQ(output_problems(dir / "file", output_files(Stage::yarn), true).to_string(),
             (dir / "file").string() + ": exists and is not a folder\n");
 }
 

@@ -1,4 +1,4 @@
-// The whole fit of one fabric as a library call (pipeline/pipeline.hpp): every problem named
+// The whole fit of one fabric as a library call (run_plan without an output folder): every problem named
 // before any work, and the yarn stage fitting the shell stage's targets in memory exactly as
 // it fits them read back from uniform_targets.csv.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 
 #include "tests/example_fabric.hpp"
 #include "pipeline/outputs.hpp"
-#include "pipeline/pipeline.hpp"
+#include "pipeline/plan.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::pipeline {
@@ -30,6 +30,25 @@ PipelineOptions tiny() {
   o.yarn.profile_step = 0.0;
   o.yarn.threads = 2;
   return o;
+}
+
+// The stages on a record in memory, or on the one in a folder, nothing written (run_plan
+// without an output folder).
+FitPlan in_memory(const db::Fabric& fabric, const PipelineOptions& options) {
+  FitPlan plan;
+  plan.fabric = fabric.folder;
+  plan.options = options;
+  plan.record = fabric;
+  return plan;
+}
+PipelineResult run_in_memory(const db::Fabric& fabric, const PipelineOptions& options) {
+  return run_plan(in_memory(fabric, options));
+}
+PipelineResult run_in_memory(const fs::path& folder, const PipelineOptions& options) {
+  FitPlan plan;
+  plan.fabric = folder;
+  plan.options = options;
+  return run_plan(plan);
 }
 
 std::vector<std::string> fields(const db::Problems& problems) {
@@ -55,15 +74,15 @@ TEST(Pipeline, NothingRunsWhenAnythingIsWrongAndEveryProblemIsListed) {
   f.pattern.reset();
   PipelineOptions o = tiny();
   o.yarn.particles = 1;
-  const db::Problems before = pipeline_problems(f, o);
+  const db::Problems before = check_plan(in_memory(f, o));
   EXPECT_EQ(fields(before), (std::vector<std::string>{"yarn.particles", "pattern"})) << before.to_string();
-  const PipelineResult r = run_pipeline(f, o);
+  const PipelineResult r = run_in_memory(f, o);
   EXPECT_EQ(r.status, PipelineStatus::invalid_input);
   EXPECT_EQ(r.problems.to_string(), before.to_string());
   EXPECT_FALSE(r.shell);
   EXPECT_FALSE(r.yarn);
 
-  const PipelineResult missing = run_pipeline(k_example.parent_path() / "no_such_fabric", tiny());
+  const PipelineResult missing = run_in_memory(k_example.parent_path() / "no_such_fabric", tiny());
   EXPECT_EQ(missing.status, PipelineStatus::invalid_input);
   EXPECT_NE(missing.problems.to_string().find("no_such_fabric/fabric.yaml: file:"), std::string::npos)
       << missing.problems.to_string();
@@ -73,7 +92,7 @@ TEST(Pipeline, NothingRunsWhenAnythingIsWrongAndEveryProblemIsListed) {
 }
 
 TEST(Pipeline, TheYarnStageFitsTheShellTargetsInMemoryAsFromTheirFile) {
-  const PipelineResult r = run_pipeline(weft_only_example(), tiny());
+  const PipelineResult r = run_in_memory(weft_only_example(), tiny());
   ASSERT_EQ(r.status, PipelineStatus::ok) << r.message;
   ASSERT_TRUE(r.shell && r.yarn && r.yarn_problem);
   EXPECT_TRUE(r.shell->converged());
@@ -83,8 +102,8 @@ TEST(Pipeline, TheYarnStageFitsTheShellTargetsInMemoryAsFromTheirFile) {
 
   yarnfit::testing::ScratchDir dir("pipeline");
   const PipelineOutputs written = write_outputs(r, dir / "out");
-  EXPECT_EQ(written.files, output_files(Stages::all));
-  for (const auto& f : output_files(Stages::all)) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+  EXPECT_EQ(written.files, output_files(Stage::all));
+  for (const auto& f : output_files(Stage::all)) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
   EXPECT_EQ(yarnfit::testing::read_file(dir / "out" / "summary.txt"), written.summary);
   const auto yarn_json = nlohmann::json::parse(yarnfit::testing::read_file(dir / "out" / "yarn_fit.json"));
   EXPECT_EQ(yarn_json["targets"], (dir / "out" / "uniform_targets.csv").string());

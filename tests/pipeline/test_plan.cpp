@@ -60,6 +60,22 @@ std::vector<std::string> fields(const db::Problems& problems) {
 
 bool has(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
 
+// A request run as the command line runs it: its plan, refused with the request's own problems.
+PipelineResult run_request(const FitRequest& request, const PlanObserver& observer = {}) {
+  db::Problems problems;
+  const FitPlan plan = fit_plan(request, problems);
+  return run_plan(plan, observer, std::move(problems));
+}
+
+// The stages on a record read beforehand, nothing written.
+PipelineResult run_in_memory(const db::Fabric& fabric, const PipelineOptions& options) {
+  FitPlan plan;
+  plan.fabric = fabric.folder;
+  plan.options = options;
+  plan.record = fabric;
+  return run_plan(plan);
+}
+
 TEST(Plan, EveryProblemOfARequestIsRefusedAtOnceBeforeAnyWork) {
   ScratchDir dir("plan_refused");
   FitRequest r = tiny(weft_only_record(dir.path()), dir / "out");
@@ -69,12 +85,12 @@ TEST(Plan, EveryProblemOfARequestIsRefusedAtOnceBeforeAnyWork) {
   r.particles = 1;
   write_file(dir / "out" / "summary.txt", "mine\n");
   std::vector<StageEvent> events;
-  const PlanResult result = run_request(r, [&events](const StageEvent& e) { events.push_back(e); });
-  EXPECT_EQ(result.fit.status, PipelineStatus::invalid_input);
-  const auto named = fields(result.fit.problems);
+  const PipelineResult result = run_request(r, [&events](const StageEvent& e) { events.push_back(e); });
+  EXPECT_EQ(result.status, PipelineStatus::invalid_input);
+  const auto named = fields(result.problems);
   for (const char* f : {"budget", "local_method", "shell.mesh", "yarn.particles"})
-    EXPECT_TRUE(has(named, f)) << f << "\n" << result.fit.problems.to_string();
-  EXPECT_TRUE(has(named, (dir / "out" / "summary.txt").string())) << result.fit.problems.to_string();
+    EXPECT_TRUE(has(named, f)) << f << "\n" << result.problems.to_string();
+  EXPECT_TRUE(has(named, (dir / "out" / "summary.txt").string())) << result.problems.to_string();
   EXPECT_TRUE(events.empty());
   EXPECT_EQ(read_file(dir / "out" / "summary.txt"), "mine\n");  // nothing of the user's replaced
   EXPECT_FALSE(fs::exists(dir / "out" / "shell_fit.json"));
@@ -82,15 +98,15 @@ TEST(Plan, EveryProblemOfARequestIsRefusedAtOnceBeforeAnyWork) {
   // A yarn stage alone needs its targets; a batch-style plan of a missing record names it.
   FitRequest yarn = tiny(dir / "weft_only", dir / "yarn_out");
   yarn.stages = "yarn";
-  EXPECT_TRUE(has(fields(run_request(yarn).fit.problems), "targets"));
+  EXPECT_TRUE(has(fields(run_request(yarn).problems), "targets"));
   yarn.stages = "most";
-  EXPECT_TRUE(has(fields(run_request(yarn).fit.problems), "stages"));
+  EXPECT_TRUE(has(fields(run_request(yarn).problems), "stages"));
   FitPlan no_record;
   no_record.fabric = dir / "no_such_fabric";
   no_record.out = dir / "missing_out";
-  const PlanResult missing = run_plan(no_record);
-  EXPECT_EQ(missing.fit.status, PipelineStatus::invalid_input);
-  EXPECT_FALSE(missing.fit.problems.empty());
+  const PipelineResult missing = run_plan(no_record);
+  EXPECT_EQ(missing.status, PipelineStatus::invalid_input);
+  EXPECT_FALSE(missing.problems.empty());
   EXPECT_FALSE(fs::exists(dir / "missing_out"));
 }
 
@@ -101,10 +117,10 @@ TEST(Plan, ExportsAreWrittenBesideTheFitAfterItAndLinkedFromTheReport) {
   r.report = true;
   r.exports = {"u3m", "arcsim", "table"};
   std::vector<Stage> order;
-  const PlanResult result = run_request(r, [&order](const StageEvent& e) {
+  const PipelineResult result = run_request(r, [&order](const StageEvent& e) {
     if (order.empty() || order.back() != e.stage) order.push_back(e.stage);
   });
-  ASSERT_TRUE(result.ok()) << result.fit.message << result.write_error << result.fit.problems.to_string();
+  ASSERT_TRUE(result.ok()) << result.message << result.write_error << result.problems.to_string();
   EXPECT_EQ(order, (std::vector<Stage>{Stage::shell, Stage::exports, Stage::report}));
   for (const char* f : {"exports/weft_only.u3ma", "exports/weft_only_arcsim.json", "exports/table/table.json"}) {
     EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
@@ -117,25 +133,25 @@ TEST(Plan, ExportsAreWrittenBesideTheFitAfterItAndLinkedFromTheReport) {
   // ARCSim for a record without an areal density, an export file in the way.
   FitRequest bad = tiny(dir / "weft_only", dir / "bad_out");
   bad.exports = {"obj"};
-  EXPECT_TRUE(has(fields(run_request(bad).fit.problems), "export"));
+  EXPECT_TRUE(has(fields(run_request(bad).problems), "export"));
   bad.exports = {"table"};
   bad.stages = "yarn";
   bad.targets = dir / "out" / "uniform_targets.csv";
-  EXPECT_TRUE(has(fields(run_request(bad).fit.problems), "export"));
+  EXPECT_TRUE(has(fields(run_request(bad).problems), "export"));
   std::string yaml = read_file(dir / "weft_only/fabric.yaml");
   yaml.replace(yaml.find("areal_density_gsm: 180\n"), 23, "");
   write_file(dir / "weft_only/fabric.yaml", yaml);
   FitRequest no_density = tiny(dir / "weft_only", dir / "density_out");
   no_density.stages = "shell";
   no_density.exports = {"arcsim"};
-  const PlanResult refused = run_request(no_density);
-  EXPECT_EQ(refused.fit.status, PipelineStatus::invalid_input);
-  EXPECT_NE(refused.fit.problems.to_string().find("arcsim: the record has no areal_density_gsm"), std::string::npos)
-      << refused.fit.problems.to_string();
+  const PipelineResult refused = run_request(no_density);
+  EXPECT_EQ(refused.status, PipelineStatus::invalid_input);
+  EXPECT_NE(refused.problems.to_string().find("arcsim: the record has no areal_density_gsm"), std::string::npos)
+      << refused.problems.to_string();
   EXPECT_FALSE(fs::exists(dir / "density_out" / "shell_fit.json"));
   r.exports = {"table"};
   r.report = false;
-  EXPECT_TRUE(has(fields(run_request(r).fit.problems), (dir / "out" / "exports" / "table").string()));
+  EXPECT_TRUE(has(fields(run_request(r).problems), (dir / "out" / "exports" / "table").string()));
 }
 
 TEST(Plan, AWholePlanRunsTheLibrarysStagesWritesEachStagesFilesAndReportsEachStageInOrder) {
@@ -143,14 +159,14 @@ TEST(Plan, AWholePlanRunsTheLibrarysStagesWritesEachStagesFilesAndReportsEachSta
   FitRequest r = tiny(weft_only_record(dir.path()), dir / "out");
   r.report = true;
   std::vector<Stage> order;
-  const PlanResult result = run_request(r, [&order](const StageEvent& e) {
+  const PipelineResult result = run_request(r, [&order](const StageEvent& e) {
     EXPECT_EQ(e.fabric_id, "weft_only");
     if (order.empty() || order.back() != e.stage) order.push_back(e.stage);
   });
-  ASSERT_TRUE(result.ok()) << result.fit.message << result.write_error;
+  ASSERT_TRUE(result.ok()) << result.message << result.write_error;
   EXPECT_EQ(order, (std::vector<Stage>{Stage::shell, Stage::yarn, Stage::report}));
-  EXPECT_EQ(result.outputs.files, output_files(Stages::all));
-  for (const auto& f : output_files(Stages::all)) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+  EXPECT_EQ(result.outputs.files, output_files(Stage::all));
+  for (const auto& f : output_files(Stage::all)) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
   for (const auto& f : report_files()) EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
   EXPECT_EQ(result.report_index, dir / "out" / "report" / "index.html");
   EXPECT_NE(result.outputs.text.find("results in " + (dir / "out").string()), std::string::npos) << result.outputs.text;
@@ -163,18 +179,18 @@ TEST(Plan, AWholePlanRunsTheLibrarysStagesWritesEachStagesFilesAndReportsEachSta
   ASSERT_TRUE(load.ok());
   PipelineOptions in_memory = options;
   in_memory.tile_cache = dir / "out";
-  const PipelineResult direct = run_pipeline(*load.fabric, in_memory);
-  ASSERT_TRUE(direct.yarn && result.fit.yarn);
-  EXPECT_EQ(direct.yarn->params.ks1, result.fit.yarn->params.ks1);
-  EXPECT_EQ(direct.yarn->params.kb, result.fit.yarn->params.kb);
-  EXPECT_EQ(direct.yarn->params.r1, result.fit.yarn->params.r1);
-  EXPECT_EQ(direct.shell->params.inplane.kxx, result.fit.shell->params.inplane.kxx);
+  const PipelineResult direct = run_in_memory(*load.fabric, in_memory);
+  ASSERT_TRUE(direct.yarn && result.yarn);
+  EXPECT_EQ(direct.yarn->params.ks1, result.yarn->params.ks1);
+  EXPECT_EQ(direct.yarn->params.kb, result.yarn->params.kb);
+  EXPECT_EQ(direct.yarn->params.r1, result.yarn->params.r1);
+  EXPECT_EQ(direct.shell->params.inplane.kxx, result.shell->params.inplane.kxx);
 
   // Run again into the same folder: refused, naming the files, unless overwriting.
-  const PlanResult again = run_request(r);
-  EXPECT_EQ(again.fit.status, PipelineStatus::invalid_input);
-  EXPECT_TRUE(has(fields(again.fit.problems), (dir / "out" / "yarn_fit.json").string()));
-  EXPECT_TRUE(has(fields(again.fit.problems), (dir / "out" / "report/index.html").string()));
+  const PipelineResult again = run_request(r);
+  EXPECT_EQ(again.status, PipelineStatus::invalid_input);
+  EXPECT_TRUE(has(fields(again.problems), (dir / "out" / "yarn_fit.json").string()));
+  EXPECT_TRUE(has(fields(again.problems), (dir / "out" / "report/index.html").string()));
 }
 
 TEST(Plan, AShellPlanWritesTheShellStagesFilesOnly) {
@@ -182,11 +198,11 @@ TEST(Plan, AShellPlanWritesTheShellStagesFilesOnly) {
   FitRequest r = tiny(weft_only_record(dir.path()), dir / "out");
   r.stages = "shell";
   int yarn_events = 0;
-  const PlanResult result = run_request(r, [&yarn_events](const StageEvent& e) { yarn_events += e.stage != Stage::shell; });
-  ASSERT_TRUE(result.ok()) << result.fit.message;
+  const PipelineResult result = run_request(r, [&yarn_events](const StageEvent& e) { yarn_events += e.stage != Stage::shell; });
+  ASSERT_TRUE(result.ok()) << result.message;
   EXPECT_EQ(yarn_events, 0);
-  EXPECT_FALSE(result.fit.yarn);
-  EXPECT_EQ(result.outputs.files, output_files(Stages::shell));
+  EXPECT_FALSE(result.yarn);
+  EXPECT_EQ(result.outputs.files, output_files(Stage::shell));
   EXPECT_FALSE(fs::exists(dir / "out" / "yarn_fit.json"));
   EXPECT_FALSE(fs::exists(dir / "out" / "report"));
 }

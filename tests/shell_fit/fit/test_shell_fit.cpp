@@ -41,7 +41,7 @@ TEST(ShellFit, InplaneThenTargetsWithoutBendingTestsAndTheJsonSaysSo) {
   ShellFitOptions o;
   o.threads = 2;
   int events = 0;
-  o.progress = [&events](const reports::Progress& p) {
+  o.progress = [&events](const numerics::Progress& p) {
     ++events;
     EXPECT_EQ(p.best_label, "rms error");
   };

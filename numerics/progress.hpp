@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-namespace yarnfit::reports {
+namespace yarnfit::numerics {
 
 struct Progress {
   // What runs now, e.g. "in-plane (weft, warp) start 2/3", "bending (weft)", "swarm", "local";
@@ -31,4 +31,4 @@ struct Progress {
 
 using ProgressFn = std::function<void(const Progress&)>;
 
-}  // namespace yarnfit::reports
+}  // namespace yarnfit::numerics
