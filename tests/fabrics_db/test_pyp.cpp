@@ -414,7 +414,9 @@ TEST(PypRoundTrip, SyntheticTileExactAt17AndWithin1e6At7Digits) {
 
 TEST(PypRoundTrip, AwkwardDoublesSurviveAt17Digits) {
   PeriodicTile tile = make_stockinette_tile();
-  tile.positions[0] = {0.1 + 0.2, -1.0 / 3.0, 1e-300};
+  // Doubles that need all 17 digits, inside the tile (a vertex may not lie more than 10
+  // periods from the others).
+  tile.positions[0] = {(0.1 + 0.2) * 1e-3, -1e-3 / 3.0, 1e-300};
   tile.positions[1][0] = std::nextafter(tile.positions[1][0], 1.0);
   tile.twists[2] = -0.0;
   tile.rest_curvatures[3] = {1e300, -4.9406564584124654e-320};  // a denormal
