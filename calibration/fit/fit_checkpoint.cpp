@@ -24,25 +24,37 @@ using swarm::json_number;
 using swarm::json_vector;
 
 // Every reader below names the field it failed on ("local[0].rounds[2].g_end: expected a
-// number, got \"x\""): `in` adds one step of the path to whatever its body throws.
+// number, got \"x\""): a BadField carries the path so far, and `in` adds one step of the path
+// in front of whatever its body throws.
+struct BadField {
+  std::string path;    // "rounds[2].g_end", "[3]"
+  std::string reason;  // "expected a number, got \"x\""
+};
+
+std::string joined(const std::string& step, const std::string& rest) {
+  if (rest.empty()) return step;
+  return step + (rest.front() == '[' ? "" : ".") + rest;
+}
+
 template <class F>
 auto in(const std::string& step, F&& body) -> decltype(body()) {
   try {
     return body();
+  } catch (const BadField& e) {
+    throw BadField{joined(step, e.path), e.reason};
   } catch (const json::exception& e) {
-    throw std::runtime_error(step + ": " + e.what());
+    throw BadField{step, e.what()};
   } catch (const std::runtime_error& e) {
-    const std::string what = e.what();
-    throw std::runtime_error(step + (what.starts_with("[") ? "" : ".") + what);
+    throw BadField{step, e.what()};
   }
 }
 
 std::string indexed(const char* key, std::size_t i) { return std::string(key) + "[" + std::to_string(i) + "]"; }
 
 const json& field(const json& j, const char* key) {
-  if (!j.is_object()) throw std::runtime_error(std::string(key) + ": inside something that is not an object");
+  if (!j.is_object()) throw BadField{"", "expected an object, got " + j.dump()};
   const auto it = j.find(key);
-  if (it == j.end()) throw std::runtime_error(std::string(key) + ": missing");
+  if (it == j.end()) throw BadField{key, "missing"};
   return *it;
 }
 
@@ -52,11 +64,11 @@ T get(const json& j, const char* key) {
   try {
     return v.get<T>();
   } catch (const json::exception&) {
-    throw std::runtime_error(std::string(key) + ": expected " +
-                             (std::is_same_v<T, bool>          ? "true or false"
-                              : std::is_same_v<T, std::string> ? "a string"
-                                                               : "a number") +
-                             ", got " + v.dump());
+    throw BadField{key, std::string("expected ") +
+                            (std::is_same_v<T, bool>          ? "true or false"
+                             : std::is_same_v<T, std::string> ? "a string"
+                                                              : "a number") +
+                            ", got " + v.dump()};
   }
 }
 
@@ -73,19 +85,25 @@ Eigen::VectorXd vector_of(const json& j) {
   return v;
 }
 
-double real_at(const json& j, const char* key) { return in(key, [&] { return real(field(j, key)); }); }
-Eigen::VectorXd vector_at(const json& j, const char* key) { return in(key, [&] { return vector_of(field(j, key)); }); }
+double real_at(const json& j, const char* key) {
+  const json& v = field(j, key);
+  return in(key, [&] { return real(v); });
+}
+Eigen::VectorXd vector_at(const json& j, const char* key) {
+  const json& v = field(j, key);
+  return in(key, [&] { return vector_of(v); });
+}
 
 Eigen::MatrixXd matrix_of(const json& j) {
   if (!j.is_array()) throw std::runtime_error("expected an array of columns, got " + j.dump());
   if (j.empty()) return {};
-  if (!j[0].is_array()) throw std::runtime_error("[0]: expected an array of numbers, got " + j[0].dump());
+  if (!j[0].is_array()) throw BadField{"[0]", "expected an array of numbers, got " + j[0].dump()};
   Eigen::MatrixXd m(static_cast<Eigen::Index>(j[0].size()), static_cast<Eigen::Index>(j.size()));
   for (std::size_t c = 0; c < j.size(); ++c) {
     const Eigen::VectorXd column = in("[" + std::to_string(c) + "]", [&] { return vector_of(j[c]); });
     if (column.size() != m.rows())
-      throw std::runtime_error("[" + std::to_string(c) + "]: a column of " + std::to_string(column.size()) +
-                               " numbers among columns of " + std::to_string(m.rows()));
+      throw BadField{"[" + std::to_string(c) + "]", "a column of " + std::to_string(column.size()) +
+                                                        " numbers among columns of " + std::to_string(m.rows())};
     m.col(static_cast<Eigen::Index>(c)) = column;
   }
   return m;
@@ -144,7 +162,7 @@ AlternationSummary run_of(const json& j) {
   s.best_value = real_at(j, "best_value");
   s.start_value = real_at(j, "start_value");
   const json& rounds = field(j, "rounds");
-  if (!rounds.is_array()) throw std::runtime_error("rounds: expected an array, got " + rounds.dump());
+  if (!rounds.is_array()) throw BadField{"rounds", "expected an array, got " + rounds.dump()};
   for (std::size_t i = 0; i < rounds.size(); ++i)
     s.rounds.push_back(in(indexed("rounds", i), [&] { return round_of(rounds[i]); }));
   s.converged = get<bool>(j, "converged");
@@ -155,7 +173,8 @@ AlternationSummary run_of(const json& j) {
   s.fallback_reason = get<std::string>(j, "fallback_reason");
   s.fallback.message = get<std::string>(j, "fallback_report");
   s.residuals = vector_at(j, "residuals");
-  s.jacobian_log = in("jacobian_log", [&] { return matrix_of(field(j, "jacobian_log")); });
+  const json& jacobian_log = field(j, "jacobian_log");
+  s.jacobian_log = in("jacobian_log", [&] { return matrix_of(jacobian_log); });
   s.seconds = get<double>(j, "seconds");
   return s;
 }
@@ -173,7 +192,7 @@ FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file) {
       throw std::runtime_error("not a version " + std::to_string(kVersion) + " yarnfit fit checkpoint");
     if (j.contains("rescored")) {
       const json& rescored = j["rescored"];
-      if (!rescored.is_array()) throw std::runtime_error("rescored: expected an array, got " + rescored.dump());
+      if (!rescored.is_array()) throw BadField{"rescored", "expected an array, got " + rescored.dump()};
       std::vector<GlobalCandidate> c;
       for (std::size_t i = 0; i < rescored.size(); ++i)
         c.push_back(in(indexed("rescored", i), [&] {
@@ -182,11 +201,13 @@ FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file) {
       out.rescored = std::move(c);
     }
     const json& local = field(j, "local");
-    if (!local.is_array()) throw std::runtime_error("local: expected an array, got " + local.dump());
+    if (!local.is_array()) throw BadField{"local", "expected an array, got " + local.dump()};
     for (std::size_t i = 0; i < local.size(); ++i) {
       if (local[i].is_null()) out.local.emplace_back();
       else out.local.emplace_back(in(indexed("local", i), [&] { return run_of(local[i]); }));
     }
+  } catch (const BadField& e) {
+    throw std::runtime_error("fit checkpoint " + file.string() + ": " + e.path + ": " + e.reason);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("fit checkpoint " + file.string() + ": " + e.what());
   } catch (const json::exception& e) {
