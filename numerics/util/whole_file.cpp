@@ -29,11 +29,13 @@ void remove_stale_temporaries(const std::filesystem::path& folder, const std::st
     const char* last = other.data() + other.size();
     const auto [end, err] = std::from_chars(first, last, pid);
     if (err != std::errc() || end != last || pid <= 0 || pid == ::getpid()) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) std::filesystem::remove(entry.path(), ec);
+    if (process_is_gone(pid)) std::filesystem::remove(entry.path(), ec);
   }
 }
 
 }  // namespace
+
+bool process_is_gone(long pid) { return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH; }
 
 namespace detail {
 void set_before_rename_hook(std::function<void(const std::filesystem::path&)> hook) {

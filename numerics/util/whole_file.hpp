@@ -14,6 +14,9 @@ namespace yarnfit::numerics {
 // the same name left by a process that is gone (killed before its rename) are removed after a
 // write succeeds.
 void write_file_whole(const std::filesystem::path& file, const std::string& text);
+// Whether the process `pid` no longer runs (what a file named after its writer's pid needs to
+// know before it may be removed as left behind).
+[[nodiscard]] bool process_is_gone(long pid);
 namespace detail {
 // Fault injection for tests (issue 52): called with the temporary file once it is written,
 // just before the rename; it may throw (a failing write) or end the process (a kill between

@@ -8,15 +8,15 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
-#include <csignal>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <random>
 #include <set>
 #include <system_error>
+
+#include "numerics/util/whole_file.hpp"
 
 namespace yarnfit::service {
 
@@ -258,7 +258,7 @@ void remove_stale_staging(const fs::path& folder) {
     const auto [end, err] = std::from_chars(first, last, pid);
     if (err != std::errc() || end == last || *end != '-' || pid <= 0 || pid == ::getpid()) continue;
     std::error_code gone;
-    if (::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) fs::remove_all(entry.path(), gone);
+    if (numerics::process_is_gone(pid)) fs::remove_all(entry.path(), gone);
   }
 }
 
