@@ -13,6 +13,9 @@ inline std::filesystem::path bundled_example_folder() {
   return std::filesystem::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
 }
 
+// Its tile (the stitch-by-stitch acrylic stockinette).
+inline const std::filesystem::path k_example_tile = bundled_example_folder() / "tile.pyp";
+
 inline db::Fabric bundled_example() {
   const auto load = db::load_fabric(bundled_example_folder());
   EXPECT_TRUE(load.ok()) << load.problems.to_string();

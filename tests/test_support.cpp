@@ -41,6 +41,8 @@ fs::path shared_dir() {
   return fs::weakly_canonical(fs::path(YARNFIT_SHARED_DIR));
 }
 
+fs::path shared_pattern(const std::string& name) { return shared_dir() / "data" / "patterns" / name; }
+
 bool running_in_ci() {
   const char* ci = std::getenv("CI");
   return ci && std::string(ci) == "true";

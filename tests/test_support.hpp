@@ -32,6 +32,9 @@ std::string read_file(const fs::path& file);
 
 // ../shared next to the source tree (or $YARNFIT_SHARED_DIR).
 fs::path shared_dir();
+// A HYLC tile of ../shared/data/patterns, and the stockinette most tests run on.
+fs::path shared_pattern(const std::string& name);
+inline fs::path shared_stockinette() { return shared_pattern("stockinette.pyp"); }
 // True when CI=true is set: missing shared data is then a failure, not a skip.
 bool running_in_ci();
 

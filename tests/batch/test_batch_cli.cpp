@@ -32,7 +32,6 @@ namespace {
 
 using nlohmann::json;
 
-fs::path stockinette() { return shared_dir() / "data" / "patterns" / "stockinette.pyp"; }
 
 // Small enough for a unit test, large enough that a swarm has iterations to be killed in. The
 // tile's own rest shape (--no-rest-shape) halves each candidate's time; what is tested is the
@@ -55,12 +54,12 @@ std::string replace_once(std::string text, const std::string& from, const std::s
 class BatchCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    if (!fs::exists(stockinette())) return;
+    if (!fs::exists(shared_stockinette())) return;
     s_dir = std::make_unique<ScratchDir>("batchcli");
     const fs::path db = *s_dir / "db";
     fs::create_directories(db);
     db::Problems problems;
-    const auto tile = db::read_pyp(stockinette(), problems);
+    const auto tile = db::read_pyp(shared_stockinette(), problems);
     ASSERT_TRUE(tile) << problems.to_string();
     const auto params = yarn::default_params({400.0, db::compute_tile_facts(*tile).r_est});
     write_file(*s_dir / "a.yaml", yarn::to_json(params).dump(2) + "\n");
@@ -70,7 +69,7 @@ class BatchCli : public ::testing::Test {
     write_file(*s_dir / "b.yaml", yarn::to_json(stiffer).dump(2) + "\n");
     const auto synth = [&](const char* id, const char* family, const char* yaml, const char* stretch) {
       const fs::path src = *s_dir / (std::string("src_") + id);
-      const auto r = run_cli("synth yarn --pattern " + quoted(stockinette()) + " --params " + quoted(*s_dir / yaml) +
+      const auto r = run_cli("synth yarn --pattern " + quoted(shared_stockinette()) + " --params " + quoted(*s_dir / yaml) +
                              " --out " + quoted(src) + " --id " + id + " --family " + family + " --max-stretch " +
                              stretch + " --directions weft --points 4 -q");
       ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -101,7 +100,7 @@ class BatchCli : public ::testing::Test {
   }
   static void TearDownTestSuite() { s_dir.reset(); }
   void SetUp() override {
-    YARNFIT_REQUIRE_SHARED(stockinette());
+    YARNFIT_REQUIRE_SHARED(shared_stockinette());
     ASSERT_TRUE(s_dir && fs::exists(db() / "shell_d" / "fabric.yaml")) << "the test database was not made";
   }
   static fs::path db() { return *s_dir / "db"; }

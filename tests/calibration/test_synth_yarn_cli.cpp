@@ -15,7 +15,7 @@ using testing::quoted;
 using testing::run_cli;
 
 TEST(SynthYarnCli, WritesTargetsAndAValidRecord) {
-  const auto pattern = testing::shared_dir() / "data" / "patterns" / "stockinette.pyp";
+  const auto pattern = testing::shared_stockinette();
   YARNFIT_REQUIRE_SHARED(pattern);
   testing::ScratchDir dir("synth_yarn");
   db::Problems problems;

@@ -17,7 +17,6 @@ namespace {
 
 using nlohmann::json;
 
-fs::path stockinette() { return shared_dir() / "data" / "patterns" / "stockinette.pyp"; }
 
 // The thesis's single swarm and the stencil local step keep the arithmetic of evaluations simple
 // (the staged search and the Gauss–Newton step are tested in tests/calibration).
@@ -29,20 +28,20 @@ const std::string k_tiny =
 class FitCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    if (!fs::exists(stockinette())) return;
+    if (!fs::exists(shared_stockinette())) return;
     s_dir = std::make_unique<ScratchDir>("fitcli");
     db::Problems problems;
-    const auto tile = db::read_pyp(stockinette(), problems);
+    const auto tile = db::read_pyp(shared_stockinette(), problems);
     ASSERT_TRUE(tile) << problems.to_string();
     const auto params = yarn::default_params({400.0, db::compute_tile_facts(*tile).r_est});
     write_file(*s_dir / "y.yaml", yarn::to_json(params).dump(2) + "\n");
-    const auto r = run_cli("synth yarn --pattern " + quoted(stockinette()) + " --params " + quoted(*s_dir / "y.yaml") +
+    const auto r = run_cli("synth yarn --pattern " + quoted(shared_stockinette()) + " --params " + quoted(*s_dir / "y.yaml") +
                            " --out " + quoted(*s_dir / "syn") + " --max-stretch 0.15 --directions weft --points 4 -q");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() { s_dir.reset(); }
   void SetUp() override {
-    YARNFIT_REQUIRE_SHARED(stockinette());
+    YARNFIT_REQUIRE_SHARED(shared_stockinette());
     ASSERT_TRUE(s_dir && fs::exists(fabric() / "fabric.yaml")) << "synth yarn failed in the suite set-up";
   }
   static fs::path fabric() { return *s_dir / "syn" / "fabric"; }

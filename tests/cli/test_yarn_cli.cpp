@@ -19,16 +19,15 @@ namespace {
 
 using nlohmann::json;
 
-fs::path stockinette() { return shared_dir() / "data" / "patterns" / "stockinette.pyp"; }
 
 double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
 
 class YarnCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    YARNFIT_REQUIRE_SHARED(stockinette());
+    YARNFIT_REQUIRE_SHARED(shared_stockinette());
     db::Problems problems;
-    auto read = db::read_pyp(stockinette(), problems);
+    auto read = db::read_pyp(shared_stockinette(), problems);
     ASSERT_TRUE(read) << problems.to_string();
     tile = *read;
     params = yarn::default_params({400.0, db::compute_tile_facts(tile).r_est});
@@ -36,7 +35,7 @@ class YarnCli : public ::testing::Test {
   }
   [[nodiscard]] fs::path params_file() const { return dir / "yarn_params.yaml"; }
   [[nodiscard]] std::string scene_args() const {
-    return "--pattern " + quoted(stockinette()) + " --params " + quoted(params_file());
+    return "--pattern " + quoted(shared_stockinette()) + " --params " + quoted(params_file());
   }
   // The state `yarn sim` starts from: the rest-shape heuristic with its default options.
   yarn::YarnSystem relaxed_system(Eigen::VectorXd& g) const {
@@ -270,7 +269,7 @@ TEST_F(YarnCli, CurveShowsProgressOnATerminalOnly) {
 }
 
 TEST_F(YarnCli, InvalidInputExitsTwoNamingTheFileOrOption) {
-  const std::string pattern = " --pattern " + quoted(stockinette());
+  const std::string pattern = " --pattern " + quoted(shared_stockinette());
   const auto expect_invalid = [&](const std::string& args, const std::vector<std::string>& needles) {
     const auto r = run_cli("yarn sim " + args + " --stretch 0.1 --json");
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;

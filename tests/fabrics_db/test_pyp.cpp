@@ -145,7 +145,6 @@ void expect_tiles_match(const PeriodicTile& a, const PeriodicTile& b, double tol
   }
 }
 
-fs::path pattern_file(const std::string& name) { return shared_dir() / "data" / "patterns" / name; }
 
 // ---------------------------------------------------------------------------------------------
 // The valid text, its layout and the defaults of optional sections.
@@ -396,7 +395,7 @@ const char* const k_real_tiles[] = {"stocktiniest.pyp", "stocktiny.pyp", "stocki
 TEST(PypRoundTrip, RealTilesExactAt17AndWithin1e6At7Digits) {
   for (const char* name : k_real_tiles) {
     SCOPED_TRACE(name);
-    const fs::path file = pattern_file(name);
+    const fs::path file = shared_pattern(name);
     YARNFIT_REQUIRE_SHARED(file);
     Problems problems;
     const auto tile = read_pyp(file, problems);
@@ -428,7 +427,7 @@ TEST(PypWriter, ReproducesTheLayoutOfTheRealFiles) {
   // same bytes, section order and header comments included.
   for (const char* name : {"stocktiniest.pyp", "stocktiny.pyp"}) {
     SCOPED_TRACE(name);
-    const fs::path file = pattern_file(name);
+    const fs::path file = shared_pattern(name);
     YARNFIT_REQUIRE_SHARED(file);
     Problems problems;
     const auto tile = read_pyp(file, problems);

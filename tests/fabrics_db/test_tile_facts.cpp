@@ -22,7 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using yarnfit::testing::shared_dir;
 
-fs::path pattern_file(const std::string& name) { return shared_dir() / "data" / "patterns" / name; }
 
 PeriodicTile load(const fs::path& file) {
   Problems problems;
@@ -74,7 +73,7 @@ class TileFactsReal : public ::testing::TestWithParam<RealTile> {};
 
 TEST_P(TileFactsReal, LoadsWithSaneFacts) {
   const RealTile& c = GetParam();
-  const fs::path file = pattern_file(std::string(c.name) + ".pyp");
+  const fs::path file = shared_pattern(std::string(c.name) + ".pyp");
   YARNFIT_REQUIRE_SHARED(file);
   const PeriodicTile tile = load(file);
   const TileFacts f = compute_tile_facts(tile);
@@ -133,7 +132,7 @@ INSTANTIATE_TEST_SUITE_P(TileFacts, TileFactsReal,
 std::vector<PeriodicTile> invariance_tiles() {
   std::vector<PeriodicTile> tiles;
   for (const char* name : {"stocktiniest", "stockinette", "cartridge_belt_rib"}) {
-    const fs::path file = pattern_file(std::string(name) + ".pyp");
+    const fs::path file = shared_pattern(std::string(name) + ".pyp");
     if (fs::exists(file)) tiles.push_back(load(file));
   }
   tiles.push_back(make_stockinette_tile());
@@ -141,7 +140,7 @@ std::vector<PeriodicTile> invariance_tiles() {
 }
 
 TEST(TileFactsInvariance, TranslatingTheWholeTile) {
-  YARNFIT_REQUIRE_SHARED(pattern_file("stockinette.pyp"));
+  YARNFIT_REQUIRE_SHARED(shared_pattern("stockinette.pyp"));
   for (const PeriodicTile& tile : invariance_tiles()) {
     PeriodicTile moved = tile;
     for (auto& p : moved.positions) {
@@ -176,7 +175,7 @@ bool shift_vertex(PeriodicTile& tile, int v, int sx, int sy) {
 }
 
 TEST(TileFactsInvariance, ShiftingVerticesByAWholePeriod) {
-  YARNFIT_REQUIRE_SHARED(pattern_file("stockinette.pyp"));
+  YARNFIT_REQUIRE_SHARED(shared_pattern("stockinette.pyp"));
   for (const PeriodicTile& tile : invariance_tiles()) {
     PeriodicTile shifted = tile;
     int moved = 0;
@@ -202,7 +201,7 @@ TEST(TileFactsInvariance, ShiftingVerticesByAWholePeriod) {
 TEST(TileFactsInvariance, MovingAWholeYarnByWholePeriods) {
   // The same fabric, described with one yarn several periods away from the others: contacts
   // must still be found between the right copies.
-  YARNFIT_REQUIRE_SHARED(pattern_file("stockinette.pyp"));
+  YARNFIT_REQUIRE_SHARED(shared_pattern("stockinette.pyp"));
   int tested = 0;
   for (const PeriodicTile& tile : invariance_tiles()) {
     const TileFacts before = compute_tile_facts(tile);
@@ -221,7 +220,7 @@ TEST(TileFactsInvariance, MovingAWholeYarnByWholePeriods) {
 }
 
 TEST(TileFactsInvariance, RenumberingVerticesAndEdges) {
-  YARNFIT_REQUIRE_SHARED(pattern_file("stockinette.pyp"));
+  YARNFIT_REQUIRE_SHARED(shared_pattern("stockinette.pyp"));
   for (const PeriodicTile& tile : invariance_tiles()) {
     const int n = tile.vertex_count();
     // New vertex index of old vertex v: a fixed scramble; edges listed in reverse.
@@ -352,7 +351,7 @@ TEST(TileFactsAnalytic, RejectsATileThatIsNotClosedLoops) {
 
 TEST(TileFacts, RibIsQuick) {
   // Timing is printed, not asserted (SPEC §7); the goal is well under a second in Release.
-  const fs::path file = pattern_file("cartridge_belt_rib.pyp");
+  const fs::path file = shared_pattern("cartridge_belt_rib.pyp");
   YARNFIT_REQUIRE_SHARED(file);
   const PeriodicTile tile = load(file);
   const auto start = numerics::Clock::now();

@@ -8,6 +8,7 @@
 #include "tests/example_fabric.hpp"
 #include "pipeline/outputs.hpp"
 #include "pipeline/plan.hpp"
+#include "tests/pipeline/plan_helpers.hpp"
 #include "tests/test_support.hpp"
 
 namespace yarnfit::pipeline {
@@ -32,29 +33,16 @@ PipelineOptions tiny() {
   return o;
 }
 
-// The stages on a record in memory, or on the one in a folder, nothing written (run_plan
-// without an output folder).
-FitPlan in_memory(const db::Fabric& fabric, const PipelineOptions& options) {
-  FitPlan plan;
-  plan.fabric = fabric.folder;
-  plan.options = options;
-  plan.record = fabric;
-  return plan;
-}
-PipelineResult run_in_memory(const db::Fabric& fabric, const PipelineOptions& options) {
-  return run_plan(in_memory(fabric, options));
-}
+using plan_helpers::fields;
+using plan_helpers::in_memory;
+using plan_helpers::run_in_memory;
+
+// The stages on the record in a folder, nothing written.
 PipelineResult run_in_memory(const fs::path& folder, const PipelineOptions& options) {
   FitPlan plan;
   plan.fabric = folder;
   plan.options = options;
   return run_plan(plan);
-}
-
-std::vector<std::string> fields(const db::Problems& problems) {
-  std::vector<std::string> out;
-  for (const auto& p : problems.items()) out.push_back(p.field);
-  return out;
 }
 
 TEST(PipelineOptions, EveryProblemOfBothStagesIsNamed) {

@@ -10,6 +10,7 @@
 
 #include "pipeline/fit_request.hpp"
 #include "pipeline/plan.hpp"
+#include "tests/pipeline/plan_helpers.hpp"
 #include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
 
@@ -52,11 +53,8 @@ FitRequest tiny(const fs::path& fabric, const fs::path& out) {
   return r;
 }
 
-std::vector<std::string> fields(const db::Problems& problems) {
-  std::vector<std::string> out;
-  for (const auto& p : problems.items()) out.push_back(p.field);
-  return out;
-}
+using plan_helpers::fields;
+using plan_helpers::run_in_memory;
 
 bool has(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
 
@@ -65,15 +63,6 @@ PipelineResult run_request(const FitRequest& request, const PlanObserver& observ
   db::Problems problems;
   const FitPlan plan = fit_plan(request, problems);
   return run_plan(plan, observer, std::move(problems));
-}
-
-// The stages on a record read beforehand, nothing written.
-PipelineResult run_in_memory(const db::Fabric& fabric, const PipelineOptions& options) {
-  FitPlan plan;
-  plan.fabric = fabric.folder;
-  plan.options = options;
-  plan.record = fabric;
-  return run_plan(plan);
 }
 
 TEST(Plan, EveryProblemOfARequestIsRefusedAtOnceBeforeAnyWork) {

@@ -17,10 +17,10 @@ using nlohmann::json;
 using yarnfit::testing::read_file;
 
 // The stockinette tile an acrylic batch generated (knit k, L 11.28 mm, R 0.74 mm).
-json version_1() { return json::parse(read_file(fs::path(YARNFIT_SOURCE_DIR) / "tests/results/data/tile_v1.json")); }
+json tile_version_1() { return json::parse(read_file(fs::path(YARNFIT_SOURCE_DIR) / "tests/results/data/tile_v1.json")); }
 
 TEST(TileFile, AVersion1RecordReadsAndWritesBackTheSameFieldsAndNumbers) {
-  const json v1 = version_1();
+  const json v1 = tile_version_1();
   ASSERT_FALSE(v1.contains("schema_version"));
   const TileFile t = tile_file_from_json(v1);
   EXPECT_EQ(t.schema_version, 1);
@@ -35,7 +35,7 @@ TEST(TileFile, AVersion1RecordReadsAndWritesBackTheSameFieldsAndNumbers) {
 }
 
 TEST(TileFile, TheFileTileMakeWroteIsNullWhenItWroteNone) {
-  TileFile t = tile_file_from_json(version_1());
+  TileFile t = tile_file_from_json(tile_version_1());
   t.file = "";
   EXPECT_TRUE(to_json(t)["file"].is_null());
   t.file = "out/k.pyp";
@@ -43,7 +43,7 @@ TEST(TileFile, TheFileTileMakeWroteIsNullWhenItWroteNone) {
 }
 
 TEST(TileFile, ABadFieldIsNamed) {
-  json v1 = version_1();
+  json v1 = tile_version_1();
   v1["period_mm"] = json::array({1.0, 2.0, 3.0});
   try {
     (void)tile_file_from_json(v1, "t.json");

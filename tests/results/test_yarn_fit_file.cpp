@@ -21,12 +21,12 @@ using yarnfit::testing::ScratchDir;
 
 // `yarnfit batch --budget quick` on the bundled stockinette_light, written by the commit before
 // the results module (bd6c6bd): no schema_version, the staged search and the Gauss–Newton step.
-json version_1() {
+json yarn_fit_version_1() {
   return json::parse(read_file(fs::path(YARNFIT_SOURCE_DIR) / "tests/results/data/yarn_fit_v1.json"));
 }
 
 TEST(YarnFitFile, AVersion1FileReadsAndWritesBackTheSameFieldsAndNumbers) {
-  const json v1 = version_1();
+  const json v1 = yarn_fit_version_1();
   ASSERT_FALSE(v1.contains("schema_version"));
   const YarnFitFile file = yarn_fit_file_from_json(v1);
   EXPECT_EQ(file.schema_version, 1);
@@ -38,7 +38,7 @@ TEST(YarnFitFile, AVersion1FileReadsAndWritesBackTheSameFieldsAndNumbers) {
 }
 
 TEST(YarnFitFile, TheFiguresReadersShowComeFromTheType) {
-  const json v1 = version_1();
+  const json v1 = yarn_fit_version_1();
   const YarnFitFile f = yarn_fit_file_from_json(v1);
   EXPECT_EQ(f.fabric, v1["fabric"].get<std::string>());
   EXPECT_TRUE(f.ok);
@@ -91,7 +91,7 @@ TEST(YarnFitFile, ImplicitFilteringAndAFailedFitRoundTrip) {
 }
 
 TEST(YarnFitFile, ABadFieldIsNamedWithItsPath) {
-  json v1 = version_1();
+  json v1 = yarn_fit_version_1();
   v1["curves"][1]["stretch"] = "0.1";
   try {
     (void)yarn_fit_file_from_json(v1, "out/yarn_fit.json");
@@ -99,10 +99,10 @@ TEST(YarnFitFile, ABadFieldIsNamedWithItsPath) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "out/yarn_fit.json: curves[1].stretch: expected an array of numbers (found string)");
   }
-  json newer = version_1();
+  json newer = yarn_fit_version_1();
   newer["schema_version"] = k_yarn_fit_schema_version + 1;
   EXPECT_THROW((void)yarn_fit_file_from_json(newer), std::runtime_error);
-  json no_params = version_1();
+  json no_params = yarn_fit_version_1();
   no_params.erase("params");
   EXPECT_THROW((void)yarn_fit_file_from_json(no_params), std::runtime_error);
   const ScratchDir dir("results_yarn");
@@ -114,7 +114,7 @@ TEST(YarnFitFile, ABadFieldIsNamedWithItsPath) {
 // yarn_fit.json's `tile` (issue 48): written and read back field for field, a tile without a
 // count or a record gauge as null or absent, and a bad field named with its path.
 TEST(YarnFitFile, TheFittedTileRoundTripsAndABadFieldIsNamed) {
-  YarnFitFile f = yarn_fit_file_from_json(version_1());
+  YarnFitFile f = yarn_fit_file_from_json(yarn_fit_version_1());
   FittedTileRecord t;
   t.source = "generated at the record's gauge";
   t.period_weft_mm = 2.4, t.period_warp_mm = 1.25, t.yarn_radius_mm = 0.25;
@@ -145,7 +145,7 @@ TEST(YarnFitFile, TheFittedTileRoundTripsAndABadFieldIsNamed) {
   EXPECT_TRUE(std::isnan(none.tile->courses_per_10cm));
   EXPECT_FALSE(none.tile->record_courses_per_10cm);
   // Files from before issue 48 have no tile.
-  EXPECT_FALSE(yarn_fit_file_from_json(version_1()).tile);
+  EXPECT_FALSE(yarn_fit_file_from_json(yarn_fit_version_1()).tile);
   json bad = j;
   bad["tile"]["period_mm"]["warp"] = "1.25";
   try {

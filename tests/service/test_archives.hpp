@@ -6,8 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "tests/example_fabric.hpp"
+#include "tests/test_support.hpp"
 
 namespace yarnfit::testing::archives {
 
@@ -60,6 +65,22 @@ inline std::string make_archive(const std::vector<Item>& items, Kind kind) {
   archive_write_close(a);
   archive_write_free(a);
   return out;
+}
+
+// The bundled example's record, the one the upload tests send.
+inline const std::filesystem::path k_example_record = bundled_example_folder();
+
+// Its files as the items of an archive, as a client zips the folder: named under `prefix`, and
+// fabric.yaml first edited by `edit` when one is given.
+inline std::vector<Item> example_record_items(const std::string& prefix,
+                                              const std::function<void(std::string&)>& edit = {}) {
+  std::vector<Item> items;
+  for (const auto& e : std::filesystem::directory_iterator(k_example_record)) {
+    std::string text = read_file(e.path());
+    if (e.path().filename() == "fabric.yaml" && edit) edit(text);
+    items.push_back(file(prefix + e.path().filename().string(), text));
+  }
+  return items;
 }
 
 }  // namespace yarnfit::testing::archives

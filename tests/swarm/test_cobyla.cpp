@@ -21,12 +21,12 @@ using yarnfit::swarm::testing::benchmark;
 using yarnfit::swarm::testing::benchmark_table;
 
 // Every point an objective was called at, with its value.
-struct Log {
+struct CallLog {
   std::vector<Eigen::VectorXd> x;
   std::vector<double> f;
 };
 
-Objective logged(const Objective& f, Log& log) {
+Objective logged_calls(const Objective& f, CallLog& log) {
   return [f, &log](const Eigen::VectorXd& x) {
     log.x.push_back(x);
     const double v = f(x);
@@ -68,11 +68,11 @@ TEST(Cobyla, ReturnsTheBestPointSeenNotTheLast) {
   };
   int last_was_worse = 0;
   for (double start : {-4.0, -1.0, 2.0, 3.0, 4.5}) {
-    Log log;
+    CallLog log;
     CobylaSettings s;
     s.max_evaluations = 400;
     s.x_tolerance = 1e-6;  // converges: its last steps probe around the best point
-    const CobylaSummary r = run_cobyla(b.space(), logged(bumpy, log), Eigen::Vector3d::Constant(start), s);
+    const CobylaSummary r = run_cobyla(b.space(), logged_calls(bumpy, log), Eigen::Vector3d::Constant(start), s);
     ASSERT_EQ(static_cast<int>(log.f.size()), r.evaluations);
     const auto best = std::min_element(log.f.begin(), log.f.end()) - log.f.begin();
     EXPECT_EQ(r.best_value, log.f[static_cast<std::size_t>(best)]);
@@ -91,11 +91,11 @@ TEST(Cobyla, EveryEvaluationInsideTheBoundsIncludingLogSpace) {
   const Objective f = [](const Eigen::VectorXd& x) {
     return std::pow(x[0] - 2.0, 2) + std::pow(x[1] + 3.0, 2) + std::pow(std::log(x[2] / 50.0), 2);
   };
-  Log log;
+  CallLog log;
   CobylaSettings s;
   s.initial_step = 0.5;  // big first steps, which would leave the box if not clamped
   s.max_evaluations = 500;
-  const CobylaSummary r = run_cobyla(space, logged(f, log), Eigen::Vector3d(0.0, 0.0, 0.1), s);
+  const CobylaSummary r = run_cobyla(space, logged_calls(f, log), Eigen::Vector3d(0.0, 0.0, 0.1), s);
   for (const auto& x : log.x) ASSERT_TRUE(space.contains(x)) << x.transpose();
   EXPECT_NEAR(r.best_point[0], 1.0, 1e-6);
   EXPECT_NEAR(r.best_point[1], -1.0, 1e-6);
@@ -106,10 +106,10 @@ TEST(Cobyla, EveryEvaluationInsideTheBoundsIncludingLogSpace) {
 TEST(Cobyla, HonoursTheEvaluationLimit) {
   const auto& b = benchmark("rosenbrock_4d");
   for (int limit : {1, 7, 30}) {
-    Log log;
+    CallLog log;
     CobylaSettings s;
     s.max_evaluations = limit;
-    const CobylaSummary r = run_cobyla(b.space(), logged(b.f, log), Eigen::Vector4d(-1.0, 1.0, -1.0, 1.0), s);
+    const CobylaSummary r = run_cobyla(b.space(), logged_calls(b.f, log), Eigen::Vector4d(-1.0, 1.0, -1.0, 1.0), s);
     EXPECT_EQ(r.evaluations, limit);
     EXPECT_EQ(static_cast<int>(log.f.size()), limit);
     EXPECT_EQ(r.status, CobylaStatus::max_evaluations);

@@ -150,13 +150,13 @@ TEST(ImplicitFiltering, SameRunWithOneAndTwoThreads) {
 }
 
 // Every point the objective sees, kept from any thread.
-struct Log {
+struct ResidualLog {
   std::mutex mutex;
   std::vector<Eigen::VectorXd> x;
   std::vector<double> g;
 };
 
-ResidualObjective logged(const ResidualObjective& f, Log& log) {
+ResidualObjective logged_residuals(const ResidualObjective& f, ResidualLog& log) {
   return [f, &log](const Eigen::VectorXd& x) {
     Eigen::VectorXd r = f(x);
     const std::lock_guard<std::mutex> lock(log.mutex);
@@ -175,11 +175,11 @@ TEST(ImplicitFiltering, ReturnsTheBestPointSeenInsideTheBoundsAndTheBudget) {
   };
   for (int limit : {1, 6, 13, 400}) {
     SCOPED_TRACE(limit);
-    Log log;
+    ResidualLog log;
     ImplicitFilteringSettings s;
     s.max_evaluations = limit;
     s.initial_scale = 0.3;
-    const ImplicitFilteringSummary r = run_implicit_filtering(space, logged(f, log), Eigen::Vector3d(0.0, 0.0, 0.1), s);
+    const ImplicitFilteringSummary r = run_implicit_filtering(space, logged_residuals(f, log), Eigen::Vector3d(0.0, 0.0, 0.1), s);
     ASSERT_EQ(static_cast<int>(log.x.size()), r.evaluations);
     EXPECT_LE(r.evaluations, limit);
     for (const auto& x : log.x) ASSERT_TRUE(space.contains(x)) << x.transpose();

@@ -32,11 +32,10 @@ using yarnfit::testing::read_file;
 using yarnfit::testing::ScratchDir;
 using namespace yarnfit::testing::archives;
 
-const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
 
 std::string zipped_record(const std::string& yaml_override = "") {
   std::vector<Item> items;
-  for (const auto& e : fs::directory_iterator(k_record)) {
+  for (const auto& e : fs::directory_iterator(k_example_record)) {
     const std::string name = e.path().filename().string();
     items.push_back(file("swatch/" + name, name == "fabric.yaml" && !yaml_override.empty() ? yaml_override : read_file(e.path())));
   }
@@ -87,7 +86,7 @@ TEST_F(Served, AnUploadIsAcceptedWholeAndSeenOnlyByItsOwnerAndAdmins) {
   ASSERT_EQ(created->status, 201) << created->body;
   const json body = json::parse(created->body);
   const std::string id = body["id"];
-  EXPECT_EQ(read_file(m_dir / "fabrics" / "ana" / id / "fabric.yaml"), read_file(k_record / "fabric.yaml"));
+  EXPECT_EQ(read_file(m_dir / "fabrics" / "ana" / id / "fabric.yaml"), read_file(k_example_record / "fabric.yaml"));
 
   const json mine = json::parse(client(m_ana).Get("/api/v1/fabrics")->body);
   ASSERT_EQ(mine["fabrics"].size(), 1u);

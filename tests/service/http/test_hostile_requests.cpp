@@ -29,14 +29,6 @@ using nlohmann::json;
 using namespace yarnfit::testing;
 using namespace yarnfit::testing::archives;
 
-const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
-
-std::vector<Item> record_items(const std::string& top) {
-  std::vector<Item> items;
-  for (const auto& e : fs::directory_iterator(k_record))
-    items.push_back(file(top + e.path().filename().string(), read_file(e.path())));
-  return items;
-}
 
 // A raw connection to the server from 127.0.0.1.
 int connect_to(int port) { return connect_from(port); }
@@ -75,40 +67,40 @@ class Hostile : public ServedTest {
 };
 
 TEST_F(Hostile, PathTraversalInAZip) {
-  auto items = record_items("swatch/");
+  auto items = example_record_items("swatch/");
   items.push_back(file("swatch/../../escaped.csv", "a\n"));
   expect_upload_refused(make_archive(items, Kind::zip), "application/zip", 422, "..");
 }
 
 TEST_F(Hostile, PathTraversalInATarGz) {
-  auto items = record_items("swatch/");
+  auto items = example_record_items("swatch/");
   items.push_back(file("../escaped.csv", "a\n"));
   expect_upload_refused(make_archive(items, Kind::tar_gz), "application/gzip", 422, "..");
 }
 
 TEST_F(Hostile, AbsoluteNamesInAZip) {
-  auto items = record_items("swatch/");
+  auto items = example_record_items("swatch/");
   items.push_back(file(outside(), "a\n"));
   expect_upload_refused(make_archive(items, Kind::zip), "application/zip", 422, "absolute");
 }
 
 TEST_F(Hostile, AbsoluteNamesInATarGz) {
-  auto items = record_items("swatch/");
+  auto items = example_record_items("swatch/");
   items.push_back(file(outside(), "a\n"));
   expect_upload_refused(make_archive(items, Kind::tar_gz), "application/gzip", 422, "absolute");
 }
 
 TEST_F(Hostile, SymbolicAndHardLinks) {
-  auto soft = record_items("swatch/");
+  auto soft = example_record_items("swatch/");
   soft.push_back({"swatch/notes.csv", "", AE_IFLNK, "/etc/passwd", false});
   expect_upload_refused(make_archive(soft, Kind::tar_gz), "application/gzip", 422, "link");
-  auto hard = record_items("swatch/");
+  auto hard = example_record_items("swatch/");
   hard.push_back({"swatch/notes.csv", "", AE_IFREG, "swatch/fabric.yaml", true});
   expect_upload_refused(make_archive(hard, Kind::tar_gz), "application/gzip", 422, "link");
 }
 
 TEST_F(Hostile, AZipBomb) {
-  auto items = record_items("swatch/");
+  auto items = example_record_items("swatch/");
   items.push_back(file("swatch/stretch_bias.csv", std::string(80u << 20, '0')));  // 80 MiB of one byte
   const std::string bomb = make_archive(items, Kind::zip);
   ASSERT_LT(bomb.size(), 1u << 20);  // well under the archive limit: only unpacking finds it
@@ -133,7 +125,7 @@ TEST_F(Hostile, WhatIsNotAnArchive) {
 }
 
 TEST_F(Hostile, MalformedJson) {
-  ASSERT_EQ(client(m_ana).Post("/api/v1/fabrics", make_archive(record_items("swatch/"), Kind::zip), "application/zip")->status, 201);
+  ASSERT_EQ(client(m_ana).Post("/api/v1/fabrics", make_archive(example_record_items("swatch/"), Kind::zip), "application/zip")->status, 201);
   const auto r = client(m_ana).Post("/api/v1/fabrics/stockinette_demo/fits", "{\"budget\": \"quick\"", "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 400);
@@ -143,7 +135,7 @@ TEST_F(Hostile, MalformedJson) {
 }
 
 TEST_F(Hostile, UnknownFields) {
-  ASSERT_EQ(client(m_ana).Post("/api/v1/fabrics", make_archive(record_items("swatch/"), Kind::zip), "application/zip")->status, 201);
+  ASSERT_EQ(client(m_ana).Post("/api/v1/fabrics", make_archive(example_record_items("swatch/"), Kind::zip), "application/zip")->status, 201);
   const auto r = client(m_ana).Post("/api/v1/fabrics/stockinette_demo/fits", R"({"stages": "all", "rm": "-rf /"})",
                                     "application/json");
   ASSERT_TRUE(r);
@@ -163,14 +155,14 @@ TEST_F(Hostile, MissingWrongAndRevokedTokens) {
   basic.set_basic_auth("ana", m_ana.c_str());
   EXPECT_EQ(basic.Get("/api/v1/fabrics")->status, 401);
   Accounts(data() / "accounts.db").revoke("bob");
-  const auto revoked = client(m_bob).Post("/api/v1/fabrics", make_archive(record_items("swatch/"), Kind::zip), "application/zip");
+  const auto revoked = client(m_bob).Post("/api/v1/fabrics", make_archive(example_record_items("swatch/"), Kind::zip), "application/zip");
   EXPECT_EQ(revoked->status, 401);
   EXPECT_NE(revoked->body.find("Bearer"), std::string::npos);
   EXPECT_FALSE(fs::exists(data() / "fabrics" / "bob"));
 }
 
 TEST_F(Hostile, AnotherUsersIds) {
-  ASSERT_EQ(client(m_ana).Post("/api/v1/fabrics", make_archive(record_items("swatch/"), Kind::zip), "application/zip")->status, 201);
+  ASSERT_EQ(client(m_ana).Post("/api/v1/fabrics", make_archive(example_record_items("swatch/"), Kind::zip), "application/zip")->status, 201);
   auto bob = client(m_bob);
   const std::string id = "stockinette_demo";
   for (const std::string& path : std::vector<std::string>{"/api/v1/fabrics/" + id, "/api/v1/jobs/" + id, "/api/v1/jobs/" + id + "/events",

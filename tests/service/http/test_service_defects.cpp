@@ -24,19 +24,7 @@ using namespace yarnfit::testing;
 using namespace yarnfit::testing::archives;
 using Clock = std::chrono::steady_clock;
 
-const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
 const std::string k_id = "stockinette_demo";
-
-// The example record as items of an archive, fabric.yaml edited by `edit`.
-std::vector<Item> record_items(const std::function<void(std::string&)>& edit = {}) {
-  std::vector<Item> items;
-  for (const auto& e : fs::directory_iterator(k_record)) {
-    std::string text = read_file(e.path());
-    if (e.path().filename() == "fabric.yaml" && edit) edit(text);
-    items.push_back(file("swatch/" + e.path().filename().string(), text));
-  }
-  return items;
-}
 
 void replace(std::string& text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
@@ -77,12 +65,12 @@ class Defects : public ServedTest {
 // 1 (critical). A record's `file:` reads only inside the record: an absolute path, `..` and
 // another user's files under DATA_DIR are refused, naming the field and nothing of the file.
 TEST_F(Defects, ARecordReadsOnlyItsOwnFolder) {
-  ASSERT_EQ(upload(m_bob, record_items())->status, 201);
+  ASSERT_EQ(upload(m_bob, example_record_items("swatch/"))->status, 201);
   const fs::path bobs = data() / "fabrics" / "bob" / k_id / "stretch_weft.csv";
   ASSERT_TRUE(fs::exists(bobs));
   for (const std::string& name : {std::string("/etc/passwd"), std::string("/proc/self/environ"), bobs.string(),
                                   "../../bob/" + k_id + "/stretch_weft.csv"}) {
-    const auto r = upload(m_ana, record_items([&](std::string& y) { replace(y, "file: stretch_weft.csv", "file: '" + name + "'"); }));
+    const auto r = upload(m_ana, example_record_items("swatch/", [&](std::string& y) { replace(y, "file: stretch_weft.csv", "file: '" + name + "'"); }));
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 422) << name << ": " << r->body;
     EXPECT_NE(r->body.find("stretch_tests.weft.file: "), std::string::npos) << r->body;
@@ -95,7 +83,7 @@ TEST_F(Defects, ARecordReadsOnlyItsOwnFolder) {
 // 2. A field that is not UTF-8 is refused with 422 naming it, nothing kept; a record stored
 // before with such a byte (an older server) breaks no listing and can be deleted.
 TEST_F(Defects, ABytePastUtf8BreaksNoListing) {
-  const auto r = upload(m_ana, record_items([](std::string& y) { replace(y, "family: ", "family: caf\xe9-"); }));
+  const auto r = upload(m_ana, example_record_items("swatch/", [](std::string& y) { replace(y, "family: ", "family: caf\xe9-"); }));
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 422) << r->body;
   EXPECT_NE(r->body.find("family: not valid UTF-8 text"), std::string::npos) << r->body;
@@ -103,7 +91,7 @@ TEST_F(Defects, ABytePastUtf8BreaksNoListing) {
   // As an older server kept it.
   const fs::path kept = data() / "fabrics" / "ana" / k_id;
   fs::create_directories(kept);
-  for (const auto& e : fs::directory_iterator(k_record)) fs::copy_file(e.path(), kept / e.path().filename());
+  for (const auto& e : fs::directory_iterator(k_example_record)) fs::copy_file(e.path(), kept / e.path().filename());
   std::string yaml = read_file(kept / "fabric.yaml");
   replace(yaml, "family: ", "family: \xff\xfe");
   write_file(kept / "fabric.yaml", yaml);
@@ -124,7 +112,7 @@ TEST_F(Defects, ABytePastUtf8BreaksNoListing) {
 // 3. A body that stops before its Content-Length (the client closes its side, or goes silent
 // past the read timeout) is discarded: nothing stored, a 400 to a client that still listens.
 TEST_F(Defects, ACutOffUploadIsNotKept) {
-  const std::string archive = make_archive(record_items(), Kind::zip);
+  const std::string archive = make_archive(example_record_items("swatch/"), Kind::zip);
   for (const bool silent : {false, true}) {
     const int s = connect_from(m_port);
     const std::string head = "POST /api/v1/fabrics HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer " + m_ana +
@@ -219,7 +207,7 @@ TEST_F(ManySilent, TwoHundredSilentConnectionsHoldNoWorker) {
 // 5. A fit request is bounded, field by field (422 naming it, no job); the listening socket's
 // backlog is sized for load, not httplib's 5.
 TEST_F(Defects, AFitRequestIsBoundedAndTheBacklogIsSized) {
-  ASSERT_EQ(upload(m_ana, record_items())->status, 201);
+  ASSERT_EQ(upload(m_ana, example_record_items("swatch/"))->status, 201);
   for (const char* field : {"particles", "iterations", "samples", "local_samples", "local_evaluations", "starts", "max_iterations"}) {
     for (const long long n : {2147483647LL, 0LL, -5LL}) {
       const auto r = client(m_ana).Post("/api/v1/fabrics/" + k_id + "/fits", json{{field, n}}.dump(), "application/json");
@@ -254,8 +242,8 @@ TEST_F(Defects, StagingLeftByACrashIsRemovedAtStart) {
 
 // 7. The admin addresses a job by its owner and id when two users have a fabric of one id.
 TEST_F(Defects, TheAdminAddressesJobsByOwner) {
-  ASSERT_EQ(upload(m_ana, record_items())->status, 201);
-  ASSERT_EQ(upload(m_bob, record_items())->status, 201);
+  ASSERT_EQ(upload(m_ana, example_record_items("swatch/"))->status, 201);
+  ASSERT_EQ(upload(m_bob, example_record_items("swatch/"))->status, 201);
   ASSERT_EQ(client(m_bob).Post("/api/v1/fabrics/" + k_id + "/fits", R"({"stages": "shell"})", "application/json")->status, 202);
   auto admin = client(m_admin);
   const auto bobs = admin.Get("/api/v1/jobs/" + k_id + "?owner=bob");
@@ -279,7 +267,7 @@ TEST_F(Defects, TheAdminAddressesJobsByOwner) {
 // body over httplib's 8 KiB, and the server's own trouble is a 500 that names no path.
 TEST_F(Defects, ClientErrorsAreClientErrors) {
   // A zip whose central directory understates notes.txt's size (the data inflates to more).
-  auto items = record_items();
+  auto items = example_record_items("swatch/");
   items.push_back(file("swatch/notes.txt", std::string(5000, 'n')));
   std::string zip = make_archive(items, Kind::zip);
   const std::string name = "swatch/notes.txt";
@@ -302,7 +290,7 @@ TEST_F(Defects, ClientErrorsAreClientErrors) {
   EXPECT_EQ(understated->status / 100, 4) << understated->body;
   EXPECT_FALSE(fs::exists(data() / "fabrics" / "ana"));
   // A fit request as a form, over 8 KiB.
-  ASSERT_EQ(upload(m_ana, record_items())->status, 201);
+  ASSERT_EQ(upload(m_ana, example_record_items("swatch/"))->status, 201);
   const auto form = client(m_ana).Post("/api/v1/fabrics/" + k_id + "/fits", std::string(9000, 'a'), "application/x-www-form-urlencoded");
   ASSERT_TRUE(form);
   EXPECT_EQ(form->status, 413);
@@ -311,7 +299,7 @@ TEST_F(Defects, ClientErrorsAreClientErrors) {
   // The server cannot write its uploads: 500, and nothing of where.
   fs::remove_all(data() / "uploads");
   write_file(data() / "uploads", "not a folder");
-  const auto disk = upload(m_bob, record_items());
+  const auto disk = upload(m_bob, example_record_items("swatch/"));
   ASSERT_TRUE(disk);
   EXPECT_EQ(disk->status, 500) << disk->body;
   EXPECT_EQ(disk->body.find(data().string()), std::string::npos) << disk->body;

@@ -42,7 +42,6 @@ using nlohmann::json;
 using namespace yarnfit::testing;
 using namespace yarnfit::testing::archives;
 
-fs::path stockinette() { return shared_dir() / "data" / "patterns" / "stockinette.pyp"; }
 
 // A fit small enough for a test, with a swarm (and its checkpoint) and a local step.
 const json k_small{{"global_method", "swarm"}, {"local_method", "implicit-filtering"},
@@ -61,7 +60,7 @@ class Records {
   std::string zipped(const std::string& id) {
     if (!m_zips.count(id)) {
       const fs::path src = m_dir / ("src_" + id);
-      const auto r = run_cli("synth yarn --pattern " + quoted(stockinette()) + " --params " +
+      const auto r = run_cli("synth yarn --pattern " + quoted(shared_stockinette()) + " --params " +
                              quoted(m_dir / "params.yaml") + " --out " + quoted(src) + " --id " + id +
                              " --family soft --max-stretch 0.15 --directions weft --points 4 -q");
       EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -76,7 +75,7 @@ class Records {
  private:
   Records() {
     db::Problems problems;
-    const auto tile = db::read_pyp(stockinette(), problems);
+    const auto tile = db::read_pyp(shared_stockinette(), problems);
     EXPECT_TRUE(tile) << problems.to_string();
     if (tile)
       write_file(m_dir / "params.yaml",
@@ -136,7 +135,7 @@ std::map<std::string, std::string> results_of(const fs::path& data, const std::s
 class ServedFits : public ServedTest {
  protected:
   void SetUp() override {
-    YARNFIT_REQUIRE_SHARED(stockinette());
+    YARNFIT_REQUIRE_SHARED(shared_stockinette());
     ServedTest::SetUp();
   }
   void serve_fits(FitJobsOptions jobs = {}, ServiceOptions o = {}) {

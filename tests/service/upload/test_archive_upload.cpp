@@ -25,14 +25,12 @@ using yarnfit::testing::read_file;
 using yarnfit::testing::ScratchDir;
 using namespace yarnfit::testing::archives;
 
-const fs::path k_record = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo";
 
 // The record's files by name, as a client zips its folder (under `prefix`).
-std::vector<Item> record_items(const std::string& prefix) {
+std::vector<Item> record_folder_items(const std::string& prefix) {
   std::vector<Item> items;
   if (!prefix.empty()) items.push_back(folder(prefix));
-  for (const auto& e : fs::directory_iterator(k_record))
-    if (e.is_regular_file()) items.push_back(file(prefix + e.path().filename().string(), read_file(e.path())));
+  for (auto& item : example_record_items(prefix)) items.push_back(std::move(item));
   return items;
 }
 
@@ -62,10 +60,10 @@ TEST(ArchiveUpload, AZippedRecordFolderUnpacksToTheSameBytes) {
     ScratchDir dir("upload_ok");
     // A zipped folder (its top folder taken off) and a .tar.gz of the files themselves.
     const std::string prefix = kind == Kind::zip ? "stockinette_demo/" : "";
-    const UnpackedUpload r = unpack_upload(make_archive(record_items(prefix), kind), dir / "fabric");
+    const UnpackedUpload r = unpack_upload(make_archive(record_folder_items(prefix), kind), dir / "fabric");
     ASSERT_TRUE(r.ok) << r.refusal.message;
     std::vector<std::string> expected;
-    for (const auto& e : fs::directory_iterator(k_record)) {
+    for (const auto& e : fs::directory_iterator(k_example_record)) {
       expected.push_back(e.path().filename().string());
       EXPECT_EQ(read_file(dir / "fabric" / e.path().filename()), read_file(e.path())) << e.path();
     }
@@ -77,7 +75,7 @@ TEST(ArchiveUpload, AZippedRecordFolderUnpacksToTheSameBytes) {
 
 TEST(ArchiveUpload, AMacZipsLitterIsPassedOver) {
   ScratchDir dir("upload_mac");
-  std::vector<Item> items = record_items("swatch/");
+  std::vector<Item> items = record_folder_items("swatch/");
   items.push_back(file("__MACOSX/swatch/._fabric.yaml", std::string("\x00\x05\x16\x07", 4)));
   items.push_back(file("swatch/.DS_Store", "bud1"));
   const UnpackedUpload r = unpack_upload(make_archive(items, Kind::zip), dir / "fabric");
@@ -89,7 +87,7 @@ TEST(ArchiveUpload, AMacZipsLitterIsPassedOver) {
 
 TEST(ArchiveUpload, NamesThatLeaveTheFolderAreRefusedInBothKinds) {
   for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
-    std::vector<Item> items = record_items("");
+    std::vector<Item> items = record_folder_items("");
     items.push_back(file("../yarnfit_evil.csv", "a,b\n"));
     expect_refused(make_archive(items, kind), 422, "../yarnfit_evil.csv: a name may not leave the folder");
     items.back().name = "sub/../../yarnfit_evil.csv";
@@ -101,11 +99,11 @@ TEST(ArchiveUpload, NamesThatLeaveTheFolderAreRefusedInBothKinds) {
 
 TEST(ArchiveUpload, LinksAndDevicesAreRefused) {
   for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
-    std::vector<Item> items = record_items("");
+    std::vector<Item> items = record_folder_items("");
     items.push_back({"passwd.csv", "", AE_IFLNK, "/etc/passwd", false});
     expect_refused(make_archive(items, kind), 422, "passwd.csv: a symbolic link");
   }
-  std::vector<Item> items = record_items("");
+  std::vector<Item> items = record_folder_items("");
   items.push_back({"copy.csv", "", AE_IFREG, "fabric.yaml", true});
   expect_refused(make_archive(items, Kind::tar_gz), 422, "copy.csv: a hard link");
   items.back() = {"tty.csv", "", AE_IFCHR, "", false};
@@ -113,7 +111,7 @@ TEST(ArchiveUpload, LinksAndDevicesAreRefused) {
 }
 
 TEST(ArchiveUpload, AZipBombStopsAtTheUnpackedLimit) {
-  std::vector<Item> items = record_items("");
+  std::vector<Item> items = record_folder_items("");
   items.push_back(file("stretch_bias.csv", std::string(20u << 20, '0')));  // 20 MiB of zeros, ~20 kB zipped
   const std::string bomb = make_archive(items, Kind::zip);
   ASSERT_LT(bomb.size(), 200u << 10);
@@ -126,27 +124,27 @@ TEST(ArchiveUpload, AZipBombStopsAtTheUnpackedLimit) {
 }
 
 TEST(ArchiveUpload, CountAndSizeLimitsHold) {
-  std::vector<Item> items = record_items("");
+  std::vector<Item> items = record_folder_items("");
   for (int i = 0; i < 12; ++i) items.push_back(file("extra_" + std::to_string(i) + ".txt", "x"));
   UploadLimits limits;
   limits.max_files = 10;
   expect_refused(make_archive(items, Kind::tar_gz), 413, "more than 10 files", limits);
   limits = {};
   limits.max_archive_bytes = 100;
-  expect_refused(make_archive(record_items(""), Kind::zip), 413, "the upload is larger than 100 bytes", limits);
+  expect_refused(make_archive(record_folder_items(""), Kind::zip), 413, "the upload is larger than 100 bytes", limits);
 }
 
 TEST(ArchiveUpload, WhatIsNotAnArchiveOrNotARecordsFileIsRefused) {
   expect_refused("fabric: {id: x}\n", 415, "not a .zip or .tar.gz archive");
   expect_refused(std::string("\x89PNG\r\n\x1a\n", 8) + std::string(200, '\x01'), 415, "not a .zip or .tar.gz archive");
   expect_refused("", 415, "not a .zip or .tar.gz archive");
-  std::vector<Item> items = record_items("");
+  std::vector<Item> items = record_folder_items("");
   items.push_back(file("setup.exe", "MZ"));
   expect_refused(make_archive(items, Kind::zip), 422, "setup.exe: not a kind of file a fabric record holds");
   expect_refused(make_archive({folder("empty/")}, Kind::zip), 422, "the archive holds no files");
   // Damaged archives: each kind cut in half.
   for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
-    const std::string whole = make_archive(record_items(""), kind);
+    const std::string whole = make_archive(record_folder_items(""), kind);
     expect_refused(whole.substr(0, whole.size() / 2), 422, "damaged archive");
   }
 }
@@ -156,7 +154,7 @@ TEST(ArchiveUpload, WhatIsNotAnArchiveOrNotARecordsFileIsRefused) {
 // that are not plain ASCII, and folders without end.
 TEST(ArchiveUpload, NamesThatCollideOrAreNotPlainAreRefused) {
   for (const Kind kind : {Kind::zip, Kind::tar_gz}) {
-    std::vector<Item> items = record_items("");
+    std::vector<Item> items = record_folder_items("");
     items.push_back(file("fabric.yaml", "id: other\n"));
     expect_refused(make_archive(items, kind), 422, "fabric.yaml: a second entry of that name");
     items.back() = file("Fabric.YAML", "id: other\n");
@@ -166,10 +164,10 @@ TEST(ArchiveUpload, NamesThatCollideOrAreNotPlainAreRefused) {
     items.back() = file("st\xc3\xa4rke.csv", "a\n");
     expect_refused(make_archive(items, kind), 422, "a character other than");
   }
-  std::vector<Item> deep = record_items("");
+  std::vector<Item> deep = record_folder_items("");
   deep.push_back(file("a/b/c/d/e/f/g/h/i/j.csv", "a\n"));
   expect_refused(make_archive(deep, Kind::tar_gz), 422, "folders deeper than 8");
-  std::vector<Item> folders = record_items("");
+  std::vector<Item> folders = record_folder_items("");
   for (int i = 0; i < 30; ++i) folders.push_back(folder("d" + std::to_string(i) + "/"));
   UploadLimits limits;
   limits.max_entries = 20;
@@ -180,7 +178,7 @@ TEST(ArchiveUpload, AnExistingFolderIsNeverReplaced) {
   ScratchDir dir("upload_exists");
   fs::create_directories(dir / "fabric");
   yarnfit::testing::write_file(dir / "fabric" / "fabric.yaml", "mine\n");
-  const UnpackedUpload r = unpack_upload(make_archive(record_items(""), Kind::zip), dir / "fabric");
+  const UnpackedUpload r = unpack_upload(make_archive(record_folder_items(""), Kind::zip), dir / "fabric");
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(read_file(dir / "fabric" / "fabric.yaml"), "mine\n");
   EXPECT_EQ(listing(dir.path()).size(), 2u);

@@ -7,11 +7,12 @@
 #include "shell_fit/fit/fab_fit.hpp"
 #include "shell_fit/scenes/clamped_stretch.hpp"
 #include "shell_fit/scenes/loop_bend.hpp"
+#include "tests/shell_fit/known_materials.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
-const InplaneParams k_knit{120.0, 35.0, 400.0, 30.0, 5.0, 8.0};  // N/m
+using known::k_knit;
 
 // A test's loading branches (two cycles, the second further) at the given abscissae.
 db::FabTest test_of(const std::string& name, db::FabTestKind kind, double length, double width,

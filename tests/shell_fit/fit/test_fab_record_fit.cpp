@@ -25,11 +25,11 @@ namespace fs = std::filesystem;
 
 constexpr double k_gf = 9.80665e-3;  // N
 constexpr double k_cm = 0.01;        // m
-constexpr double k_rho = 0.15;       // kg/m²
+constexpr double k_record_rho = 0.15;       // kg/m²
 // Eq. 6.1's law [N/m] as far as a FAB can tell it: the rig measures no change of width, so the
 // Poisson coupling kxy and the compression stiffness kn1 are held at 0 and kn2 at its weak
 // barrier (inplane_fit.hpp), and the truth is taken there.
-const InplaneParams k_truth{120.0, 0.0, 400.0, 30.0, 0.0, 1e-3 * std::sqrt(120.0 * 400.0)};
+const InplaneParams k_record_truth{120.0, 0.0, 400.0, 30.0, 0.0, 1e-3 * std::sqrt(120.0 * 400.0)};
 const std::map<db::Direction, double> k_ktheta{
     {db::Direction::weft, 2.5e-6}, {db::Direction::bias, 4e-6}, {db::Direction::warp, 6e-6}};
 
@@ -63,7 +63,7 @@ json stretch_test(db::Direction dir, double L, double zero) {
   s.target_edge = std::min(5e-3, 0.25 * L);
   std::vector<double> stretches;
   for (int k = 1; k <= 12; ++k) stretches.push_back(0.012 * k);
-  const auto run = ClampedStretchScene(s).run(k_truth, stretches);
+  const auto run = ClampedStretchScene(s).run(k_record_truth, stretches);
   EXPECT_TRUE(run.ok) << run.message;
   std::vector<double> d, f;
   for (int k = 5; k >= 1; --k) d.push_back(L * (1.0 - 0.002 * k)), f.push_back(zero);
@@ -78,10 +78,10 @@ json bend_test(db::Direction dir, double L, LoopDirection up_down, double zero) 
   s.length = L;
   s.width = 0.1 * L;
   s.material_angle = -db::pull_angle(dir);
-  s.areal_density = k_rho;
+  s.areal_density = k_record_rho;
   s.direction = up_down;
   ShellParams p;
-  p.inplane = k_truth;
+  p.inplane = k_record_truth;
   p.bending.ktheta = {k_ktheta.at(dir), k_ktheta.at(dir), k_ktheta.at(dir)};
   std::vector<double> d;
   for (int i = 0; i < 9; ++i) d.push_back(L * (0.95 - 0.065 * i));
@@ -103,12 +103,12 @@ json synthetic_fab() {
                    {"U1", bend_test(dir, 2.05 * k_cm, LoopDirection::up, -0.015)},
                    {"D1", bend_test(dir, 2.05 * k_cm, LoopDirection::down, -0.03)},
                    {"D2", bend_test(dir, 8.1 * k_cm, LoopDirection::down, 0.006)}};
-  raw["M"] = k_rho * 1000.0;  // g/m²
+  raw["M"] = k_record_rho * 1000.0;  // g/m²
   raw["T"] = test_json(0.0, json::array({json::array({0.025, -500.0, 0.02, -900.0})}));
   return {{"schema", "1.1"}, {"raw_data", raw}, {"custom", {{"browzwear", {{"name", "synthetic"}, {"category", "Knits"}}}}}};
 }
 
-double relative(double a, double b) { return std::abs(a - b) / std::abs(b); }
+double relative_gap(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
 TEST(FabRecordFit, AFabFileMadeFromAKnownLawIsFittedBackWithin2Percent) {
   testing::ScratchDir dir("fabfit");
@@ -133,14 +133,14 @@ TEST(FabRecordFit, AFabFileMadeFromAKnownLawIsFittedBackWithin2Percent) {
   ASSERT_TRUE(r.converged()) << r.failure();
   ASSERT_TRUE(r.fab);
   // The stretch tests pin the tensile and shear stiffnesses.
-  EXPECT_LT(relative(r.params.inplane.kxx, k_truth.kxx), 0.02) << r.params.inplane.kxx;
-  EXPECT_LT(relative(r.params.inplane.kyy, k_truth.kyy), 0.02) << r.params.inplane.kyy;
-  EXPECT_LT(relative(r.params.inplane.kss, k_truth.kss), 0.02) << r.params.inplane.kss;
+  EXPECT_LT(relative_gap(r.params.inplane.kxx, k_record_truth.kxx), 0.02) << r.params.inplane.kxx;
+  EXPECT_LT(relative_gap(r.params.inplane.kyy, k_record_truth.kyy), 0.02) << r.params.inplane.kyy;
+  EXPECT_LT(relative_gap(r.params.inplane.kss, k_record_truth.kss), 0.02) << r.params.inplane.kss;
   ASSERT_EQ(r.fab->bends.size(), 3u);
   for (const auto& b : r.fab->bends) {
     EXPECT_TRUE(b.converged) << b.message;
-    EXPECT_LT(relative(b.ktheta, k_ktheta.at(b.direction)), 0.02) << db::to_string(b.direction) << " " << b.ktheta;
-    EXPECT_LT(relative(r.params.bending.ktheta[static_cast<std::size_t>(b.direction)], k_ktheta.at(b.direction)), 0.02);
+    EXPECT_LT(relative_gap(b.ktheta, k_ktheta.at(b.direction)), 0.02) << db::to_string(b.direction) << " " << b.ktheta;
+    EXPECT_LT(relative_gap(r.params.bending.ktheta[static_cast<std::size_t>(b.direction)], k_ktheta.at(b.direction)), 0.02);
   }
   // Every test, fitted or held out, within 2 % of its data; S1 held out.
   ASSERT_EQ(r.fab->tests.size(), 15u);

@@ -11,13 +11,14 @@
 #include "shell_fit/fit/inplane_fit.hpp"
 #include "shell_fit/fit/synthetic_fabric.hpp"
 #include "tests/test_support.hpp"
+#include "tests/shell_fit/known_materials.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
 using yarnfit::testing::ScratchDir;
 
-const InplaneParams k_truth{120.0, 35.0, 400.0, 30.0, 5.0, 8.0};  // N/m
+const InplaneParams k_truth = known::k_knit;
 
 // Targets on the synthetic curves' own points: fitting over the whole simulated range puts the
 // 6 targets of each 13-point curve exactly on data points, so no interpolation error enters.

@@ -35,7 +35,7 @@ ShellParams stiffening_law() {
   return p;
 }
 
-double relative(double a, double b) { return std::abs(a / b - 1.0); }
+double relative_off(double a, double b) { return std::abs(a / b - 1.0); }
 
 // The samples of a known law are reproduced by the fitted law (its misfit is small), and the
 // law's values are recovered where the samples determine them.
@@ -49,11 +49,11 @@ TEST(UniformLawFit, ReproducesTheSamplesOfAKnownThesisLaw) {
   EXPECT_LT(fit.stress_misfit_pct, 0.05);
   EXPECT_LT(fit.compression_misfit_pct, 0.05);
   EXPECT_LT(fit.bending_misfit_pct, 1e-9);
-  EXPECT_LT(relative(fit.params.bending.ktheta[0], 2e-6), 1e-9);
-  EXPECT_LT(relative(fit.params.bending.ktheta[2], 4e-6), 1e-9);
+  EXPECT_LT(relative_off(fit.params.bending.ktheta[0], 2e-6), 1e-9);
+  EXPECT_LT(relative_off(fit.params.bending.ktheta[2], 4e-6), 1e-9);
   // The bias slot has no bending samples: the mean of the others.
-  EXPECT_LT(relative(fit.params.bending.ktheta[1], 3e-6), 1e-9);
-  EXPECT_LT(relative(fit.params.inplane.kyy - fit.params.inplane.kxy * fit.params.inplane.kxy / fit.params.inplane.kxx,
+  EXPECT_LT(relative_off(fit.params.bending.ktheta[1], 3e-6), 1e-9);
+  EXPECT_LT(relative_off(fit.params.inplane.kyy - fit.params.inplane.kxy * fit.params.inplane.kxy / fit.params.inplane.kxx,
                      truth.inplane.kyy - truth.inplane.kxy * truth.inplane.kxy / truth.inplane.kxx),
             0.02);
 }

@@ -9,11 +9,12 @@
 
 #include "shell_fit/scenes/clamped_stretch.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
+#include "tests/shell_fit/known_materials.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
-const InplaneParams k_knit{120.0, 35.0, 400.0, 30.0, 5.0, 8.0};  // N/m
+using known::k_knit;
 
 // A long strip (length ≫ width) is uniform away from the clamps: with gauge marks in the
 // middle, the line force and the compression between the marks must be the uniform

@@ -12,13 +12,14 @@
 #include "shell_fit/energies/bending_term.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
 #include "shell_fit/scenes/pear_loop.hpp"
+#include "tests/shell_fit/known_materials.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
-const InplaneParams k_knit{120.0, 35.0, 400.0, 30.0, 5.0, 8.0};  // N/m
+using known::k_knit;
 // Nearly inextensible: the loop's tension ρ g L ~ 0.2 N/m strains it by ~1e-5.
-const InplaneParams k_stiff{2e4, 0.0, 2e4, 1e4, 0.0, 0.0};
+using known::k_stiff;
 constexpr double k_rho = 0.18;  // kg/m² (180 gsm)
 constexpr double k_g = 9.81;
 

@@ -3,13 +3,14 @@
 #include <gtest/gtest.h>
 
 #include "shell_fit/scenes/scene_json.hpp"
+#include "tests/shell_fit/known_materials.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
 using nlohmann::json;
 
-const InplaneParams k_knit{120, 35, 400, 30, 5, 8};
+using known::k_knit;
 
 TEST(SceneJson, ParamsUnderTheKeysOfShellFitJson) {
   ShellParams p;

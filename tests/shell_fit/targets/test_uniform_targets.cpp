@@ -7,11 +7,12 @@
 #include "shell_fit/energies/inplane_material.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 #include "tests/test_support.hpp"
+#include "tests/shell_fit/known_materials.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
-const InplaneParams k_knit{120.0, 35.0, 400.0, 30.0, 5.0, 8.0};  // N/m, anisotropic
+using known::k_knit;
 
 Eigen::Matrix2d uniaxial_F(double angle, double s, double c) {
   const Eigen::Vector2d u(std::cos(angle), std::sin(angle)), v(-std::sin(angle), std::cos(angle));

@@ -3,6 +3,7 @@
 // termination and reason when it does not.
 #include <gtest/gtest.h>
 
+#include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/scenes/sample_json.hpp"
 
@@ -10,16 +11,15 @@ namespace yarnfit::yarn {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path k_tile = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo/tile.pyp";
+using yarnfit::testing::k_example_tile;
 
 YarnScene example_scene(const yarnfit::testing::ScratchDir& dir, int max_iterations) {
   db::Problems problems;
-  const auto tile = db::read_pyp(k_tile, problems);
+  const auto tile = db::read_pyp(k_example_tile, problems);
   EXPECT_TRUE(tile) << problems.to_string();
   yarnfit::testing::write_file(dir / "y.json", to_json(default_params(scales_of(*tile, 120.0))).dump());
   YarnSceneSetup s;
-  s.pattern = k_tile;
+  s.pattern = k_example_tile;
   s.params = dir / "y.json";
   s.rest_shape = false;
   s.max_iterations = max_iterations;

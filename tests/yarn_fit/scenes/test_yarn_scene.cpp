@@ -3,6 +3,7 @@
 // parameters derived from ks2 when the file leaves them out.
 #include <gtest/gtest.h>
 
+#include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/scenes/yarn_scene.hpp"
 
@@ -10,14 +11,14 @@ namespace yarnfit::yarn {
 namespace {
 
 namespace fs = std::filesystem;
+using yarnfit::testing::k_example_tile;
 using yarnfit::testing::ScratchDir;
 using yarnfit::testing::write_file;
 
-const fs::path k_tile = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo/tile.pyp";
 
 YarnSceneSetup setup_with(const fs::path& params) {
   YarnSceneSetup s;
-  s.pattern = k_tile;
+  s.pattern = k_example_tile;
   s.params = params;
   s.direction = "bias";
   s.rest_shape = false;
@@ -27,7 +28,7 @@ YarnSceneSetup setup_with(const fs::path& params) {
 TEST(YarnScene, LoadsTheTileAndParametersAlongTheDirection) {
   ScratchDir dir("yarn_scene");
   db::Problems problems;
-  const auto tile = db::read_pyp(k_tile, problems);
+  const auto tile = db::read_pyp(k_example_tile, problems);
   ASSERT_TRUE(tile) << problems.to_string();
   const YarnParams p = default_params(scales_of(*tile, 120.0));
   write_file(dir / "y.json", to_json(p).dump());
@@ -36,7 +37,7 @@ TEST(YarnScene, LoadsTheTileAndParametersAlongTheDirection) {
   EXPECT_EQ(scene->params.kc1, p.kc1);
   EXPECT_EQ(scene->angle, direction_angle("bias"));
   EXPECT_EQ(scene->g.size(), scene->system->dof_count());
-  EXPECT_EQ(scene->pattern_file, k_tile.string());
+  EXPECT_EQ(scene->pattern_file, k_example_tile.string());
   EXPECT_EQ(tile_json(*scene)["vertices"], scene->system->tile().vertex_count());
   EXPECT_EQ(rest_shape_json(*scene), (nlohmann::json{{"applied", false}}));
   EXPECT_EQ(units_json()["stress_kappa"], "N");
@@ -46,7 +47,7 @@ TEST(YarnScene, LoadsTheTileAndParametersAlongTheDirection) {
 TEST(YarnScene, ProblemsNameTheFileAndKsTwoFillsTheFixedParameters) {
   ScratchDir dir("yarn_scene_bad");
   db::Problems problems;
-  const auto tile = db::read_pyp(k_tile, problems);
+  const auto tile = db::read_pyp(k_example_tile, problems);
   ASSERT_TRUE(tile);
   nlohmann::json p = to_json(default_params(scales_of(*tile, 120.0)));
   p.erase("kc2");
