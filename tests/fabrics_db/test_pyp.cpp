@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using yarnfit::testing::read_file;
 using yarnfit::testing::ScratchDir;
-using yarnfit::testing::shared_dir;
+using yarnfit::testing::shared_pattern;
 using yarnfit::testing::write_file;
 
 const char* const k_label = "tile.pyp";

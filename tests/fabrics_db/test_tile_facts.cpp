@@ -20,7 +20,7 @@ namespace yarnfit::db {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::shared_dir;
+using yarnfit::testing::shared_pattern;
 
 
 PeriodicTile load(const fs::path& file) {

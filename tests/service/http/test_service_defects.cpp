@@ -74,7 +74,9 @@ TEST_F(Defects, ARecordReadsOnlyItsOwnFolder) {
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 422) << name << ": " << r->body;
     EXPECT_NE(r->body.find("stretch_tests.weft.file: "), std::string::npos) << r->body;
-    for (const char* leak : {"root:", "PATH=", "HOME=", "stretch,force_N", data().string().c_str()})
+    // Strings, not pointers: a pointer into data().string() would dangle before the loop ran.
+    for (const std::string& leak : {std::string("root:"), std::string("PATH="), std::string("HOME="),
+                                    std::string("stretch,force_N"), data().string()})
       EXPECT_EQ(r->body.find(leak), std::string::npos) << leak << " in " << r->body;
     EXPECT_FALSE(fs::exists(data() / "fabrics" / "ana" / k_id));
   }
