@@ -12,7 +12,7 @@
 namespace yarnfit::calibration {
 namespace {
 
-constexpr double k_inf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 using numerics::k_nan;
 
 // A tile of the knit at aspect a and loop density K_s, held there, its crossings 2R apart.
