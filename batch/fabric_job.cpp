@@ -17,6 +17,7 @@
 #include "results/read_if_present.hpp"
 #include "results/shell_fit_file.hpp"
 #include "results/yarn_fit_file.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::batch {
 
@@ -71,7 +72,7 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   return {true, ""};
 }
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 // What a stage's row holds; the ledger's columns take the result file's names (its errors and
 // parameters).

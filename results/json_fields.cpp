@@ -5,12 +5,13 @@
 
 #include "fabrics_db/text_util.hpp"
 #include "results/metrics/error_metrics.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::results::detail {
 
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 const char* type_name(const json& j) { return j.type_name(); }
 

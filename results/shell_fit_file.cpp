@@ -5,6 +5,7 @@
 
 #include "results/json_fields.hpp"
 #include "results/metrics/error_metrics.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::results {
 
@@ -12,7 +13,7 @@ using nlohmann::json;
 using namespace detail;
 
 namespace {
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 }  // namespace
 
 json curves_json(const ShellDirectionCurves& d) {

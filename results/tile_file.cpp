@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "results/json_fields.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::results {
 
@@ -12,7 +13,7 @@ using namespace detail;
 
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 json pair_json(const std::array<double, 2>& v) { return numbers_json({v[0], v[1]}); }
 

@@ -6,6 +6,7 @@
 
 #include "results/json_fields.hpp"
 #include "results/metrics/error_metrics.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::results {
 
@@ -14,7 +15,7 @@ using namespace detail;
 
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 // A member object, or an empty one when absent (its fields then take their defaults).
 const json& object_or_empty(const json& j, const char* key, const Where& at) {

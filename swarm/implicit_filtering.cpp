@@ -9,19 +9,20 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::swarm {
 
 namespace {
 
 using numerics::Clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 // One evaluation: the unit point, its residuals and g = |r|², or why it failed.
 struct Point {
   Eigen::VectorXd u;
   Eigen::VectorXd r;
-  double value = kInf;
+  double value = k_inf;
   Evaluation outcome;
 };
 

@@ -11,15 +11,15 @@
 #include "numerics/util/clock.hpp"
 #include "swarm/random.hpp"
 #include "swarm/swarm_state.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::swarm {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 using numerics::Clock;
-
 
 // Inertia of the move into iteration `iteration` (2 ≤ iteration ≤ iterations): linear from
 // inertia_start on the first move to inertia_end on the last.
@@ -58,7 +58,7 @@ detail::SwarmState start_state(const ParameterSpace& space, const SwarmSettings&
     }
   }
   st.best_position = st.position;
-  st.best_value = Eigen::VectorXd::Constant(n, kInf);
+  st.best_value = Eigen::VectorXd::Constant(n, k_inf);
   st.global_best = Eigen::VectorXd::Constant(d, 0.5);
   st.summary.settings = s;
   st.random_state = rng.state();
@@ -92,7 +92,7 @@ Eigen::MatrixXd repulsion(const SwarmSettings& s, const Eigen::MatrixXd& x) {
 // Mean over particles of the distance to the nearest other particle (unit cube).
 double mean_neighbour_distance(const Eigen::MatrixXd& x) {
   const Eigen::Index n = x.cols();
-  Eigen::VectorXd nearest = Eigen::VectorXd::Constant(n, kInf);
+  Eigen::VectorXd nearest = Eigen::VectorXd::Constant(n, k_inf);
   for (Eigen::Index i = 0; i < n; ++i) {
     for (Eigen::Index j = i + 1; j < n; ++j) {
       const double d = (x.col(i) - x.col(j)).norm();

@@ -11,13 +11,14 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::calibration {
 
 namespace {
 
 using numerics::Clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 // dθ/du of each coordinate at x (ParameterSpace: log-space coordinates are exponential in u).
 Eigen::VectorXd unit_derivative(const swarm::ParameterSpace& space, const Eigen::VectorXd& x) {
@@ -151,10 +152,10 @@ class HeldRestResiduals final : public ceres::CostFunction {
   mutable Eigen::MatrixXd m_j_unit;
   mutable ObjectiveResult m_last;
   mutable std::vector<SweepStates> m_best_states;
-  mutable double m_best = kInf;
+  mutable double m_best = k_inf;
   Eigen::MatrixXd m_secant;
   Eigen::VectorXd m_origin;
-  mutable double m_best_model = kInf;
+  mutable double m_best_model = k_inf;
   mutable Eigen::VectorXd m_best_model_u, m_best_model_r;
   mutable int m_evaluations = 0, m_failures = 0;
 };
@@ -216,7 +217,7 @@ class Alternation {
     options.wanted = m_wanted;
     options.record_states = true;
     a.result = m_objective.evaluate_at_rest(a.rest, params_at(u), options);
-    count(a.result.ok, a.result.ok ? a.result.value : kInf);
+    count(a.result.ok, a.result.ok ? a.result.value : k_inf);
     if (!a.result.ok) {
       m_out.message = a.result.message;
       return std::nullopt;
@@ -227,7 +228,7 @@ class Alternation {
   // Gauss–Newton on a's held rest state, inside the box |u − a.u|∞ ≤ radius.
   struct HeldRun {
     Eigen::VectorXd u;
-    double g = kInf;  // of the model (the held rest state and the secant term)
+    double g = k_inf;  // of the model (the held rest state and the secant term)
     Eigen::VectorXd held_residuals;  // at u, on the held rest state alone (empty if unknown)
     bool failed = false;
     int iterations = 0, evaluations = 0;
@@ -301,14 +302,14 @@ class Alternation {
       u[i] += h;
       const RestState rest = m_objective.rest_state(params_at(u));
       if (!rest.ok) {
-        count(false, kInf);
+        count(false, k_inf);
         return false;
       }
       // Without sensitivities, unlike a's own evaluation. Evaluating these with them too was
       // tried: it moved the measured B and changed which valley a knit fit ended in
       // (docs/calibration.md, "Woven tiles").
       const ObjectiveResult r = m_objective.evaluate_at_rest(rest, params_at(u), AtRestOptions{});
-      count(r.ok, r.ok ? r.value : kInf);
+      count(r.ok, r.ok ? r.value : k_inf);
       if (!r.ok) return false;
       const Eigen::VectorXd ri = residual_vector(r);
       if (ri.size() != r0.size() || !ri.allFinite()) return false;
@@ -334,7 +335,7 @@ class Alternation {
   AlternationSummary& m_out;
   int m_residuals;
   std::vector<yarn::YarnParam> m_wanted;
-  double m_best_seen = kInf;
+  double m_best_seen = k_inf;
   Eigen::MatrixXd m_secant;  // m × d, unit cube; empty until a round has compared
 };
 
@@ -376,7 +377,7 @@ void run_rounds(Alternation& alternation, const AlternationSettings& settings, A
     } else if (!held.failed) {
       std::optional<Accepted> trial = alternation.relax_and_evaluate(held.u);
       if (trial && round.move <= settings.secant_move) alternation.update_secant(at, held, *trial);
-      round.g_true = trial ? trial->g() : kInf;
+      round.g_true = trial ? trial->g() : k_inf;
       round.accepted = trial && trial->g() < at.g();
       bool mispredicted = !round.accepted;
       if (round.accepted) {
@@ -484,7 +485,7 @@ AlternationSummary run_alternation(const YarnObjective& objective, const swarm::
     throw std::invalid_argument("alternation start: " + outside.front());
   const auto t0 = Clock::now();
   AlternationSummary out;
-  out.best_value = out.start_value = kInf;
+  out.best_value = out.start_value = k_inf;
   Alternation alternation(objective, space, to_params, settings, progress, out);
   std::optional<Accepted> at = alternation.relax_and_evaluate(space.to_unit(start));
   if (at) {

@@ -10,13 +10,14 @@
 
 #include "calibration/fit/fit_progress.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::calibration {
 
 namespace {
 
 using numerics::Clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 void report(const GlobalSearchInput& in, const std::string& stage, const char* step_name, int step, int steps,
             double best) {
@@ -47,7 +48,7 @@ GlobalStage run_stage(const std::string& name, const GlobalSearchInput& in, cons
   // swarm runs as with exact values, and hopeless candidates end after their first samples.
   std::atomic<int> stopped{0};
   const swarm::ParticleObjective f = [&](const Eigen::VectorXd& x, const swarm::ParticleContext& c) {
-    const ObjectiveResult r = objective.evaluate(in.to_params(embed(x)), in.cutoff ? c.cutoff : kInf);
+    const ObjectiveResult r = objective.evaluate(in.to_params(embed(x)), in.cutoff ? c.cutoff : k_inf);
     if (!r.ok) throw std::runtime_error(r.message);
     if (r.lower_bound) ++stopped;
     return r.value;
@@ -98,19 +99,19 @@ std::vector<GlobalCandidate> rescore(const GlobalSearchInput& in, std::vector<Gl
   }
   const YarnObjective& local = in.objective(in.local_samples, 0);
   const int n = static_cast<int>(chosen.size());
-  std::vector<double> value(static_cast<std::size_t>(n), kInf);
+  std::vector<double> value(static_cast<std::size_t>(n), k_inf);
   if (in.threads > 0) omp_set_num_threads(in.threads);
 #pragma omp parallel for schedule(dynamic)
   for (int i = 0; i < n; ++i) {
     const ObjectiveResult r = local.evaluate(in.to_params(chosen[static_cast<std::size_t>(i)].point));
-    value[static_cast<std::size_t>(i)] = r.ok ? r.value : kInf;
+    value[static_cast<std::size_t>(i)] = r.ok ? r.value : k_inf;
   }
   for (int i = 0; i < n; ++i) chosen[static_cast<std::size_t>(i)].value = value[static_cast<std::size_t>(i)];
   std::erase_if(chosen, [](const GlobalCandidate& c) { return !std::isfinite(c.value); });
   std::stable_sort(chosen.begin(), chosen.end(),
                    [](const GlobalCandidate& a, const GlobalCandidate& b) { return a.value < b.value; });
   stage.evaluations = n;
-  stage.best = chosen.empty() ? kInf : chosen.front().value;
+  stage.best = chosen.empty() ? k_inf : chosen.front().value;
   stage.seconds = numerics::seconds_since(start);
   report(in, "rescore", "candidate", n, n, stage.best);
   return chosen;
@@ -205,7 +206,7 @@ GlobalSearchResult run_staged_search(const GlobalSearchInput& in, const StagedSe
   rescored.name = "rescore";
   if (in.rescored) {  // from the checkpoint of an earlier run of this fit
     out.starts = *in.rescored;
-    rescored.best = out.starts.empty() ? kInf : out.starts.front().value;
+    rescored.best = out.starts.empty() ? k_inf : out.starts.front().value;
   } else {
     std::vector<GlobalCandidate> candidates = particle_bests(out.stages.back().swarm, identity);
     candidates.push_back({pinned, out.stages.front().swarm.best_value});

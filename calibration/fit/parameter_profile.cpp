@@ -8,12 +8,13 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::calibration {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
@@ -32,10 +33,10 @@ std::vector<GaussNewtonRange> gauss_newton_ranges(const Eigen::MatrixXd& jtj, do
   for (Eigen::Index i = 0; i < dim; ++i) {
     auto& r = out[static_cast<std::size_t>(i)];
     const double alone = jtj(i, i);
-    r.alone = alone > 0.0 ? std::exp(std::sqrt(g / alone)) : kInf;
+    r.alone = alone > 0.0 ? std::exp(std::sqrt(g / alone)) : k_inf;
     const double var = inverse(i, i);
     const bool free = cod.rank() < dim && std::abs(null_projector(i, i)) > 1e-6;
-    r.refitted = free || !(var > 0.0) ? kInf : std::exp(std::sqrt(g * var));
+    r.refitted = free || !(var > 0.0) ? k_inf : std::exp(std::sqrt(g * var));
   }
   return out;
 }
@@ -82,8 +83,8 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
     ParameterProfileEntry e;
     e.name = space.parameter(i).name;
     e.value = x_fit[i];
-    e.g_lower = lo.ok ? lo.value : kInf;
-    e.g_upper = hi.ok ? hi.value : kInf;
+    e.g_lower = lo.ok ? lo.value : k_inf;
+    e.g_upper = hi.ok ? hi.value : k_inf;
     const Eigen::VectorXd r_lo = lo.ok ? residual_vector(lo) : Eigen::VectorXd();
     const Eigen::VectorXd r_hi = hi.ok ? residual_vector(hi) : Eigen::VectorXd();
     if (r_lo.size() != r0.size() || r_hi.size() != r0.size()) {

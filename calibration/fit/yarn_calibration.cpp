@@ -16,13 +16,14 @@
 #include "numerics/terms/scene.hpp"
 #include "numerics/util/clock.hpp"
 #include "results/metrics/error_metrics.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::calibration {
 
 namespace {
 
 using numerics::Clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 // 0: c* at every sample; N ≥ 2: at N nodes, at most one per sample.
 // The thesis's method in full (`--global swarm --local cobyla`): its objective stays 6.11.
@@ -154,7 +155,7 @@ class FitRun {
     if (!m_s.swarm) {
       GlobalSearchResult none;
       none.ok = true;
-      none.starts.push_back({start_without_search(), kInf});
+      none.starts.push_back({start_without_search(), k_inf});
       return none;
     }
     GlobalSearchInput in;
@@ -355,7 +356,7 @@ YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::
 
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 // The overall figure of one error: the mean over directions (each direction's figure is
 // already a mean over its samples).

@@ -24,8 +24,6 @@ double interpolate_target(const std::vector<db::UniaxialPoint>& points, double s
 
 namespace {
 
-double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
-
 bool same_deformation(const yarn::CoarseDeformation& a, const yarn::CoarseDeformation& b) {
   return a.stretch == b.stretch && a.compression == b.compression && a.curvature == b.curvature && a.angle == b.angle;
 }

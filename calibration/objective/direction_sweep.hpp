@@ -38,6 +38,9 @@
 
 namespace yarnfit::calibration {
 
+// The second Piola–Kirchhoff stress of a uniaxial sample from its nominal stress and stretch.
+inline double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
+
 // The fixed comfort-range facts of one direction's targets.
 struct DirectionScale {
   db::Direction direction = db::Direction::weft;
@@ -84,8 +87,6 @@ struct DirectionError {
   double bending_norm = 0.0;
   double bending_weight = 0.0;
 };
-
-
 
 struct SweepSettings {
   int samples = 7;

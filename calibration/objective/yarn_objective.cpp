@@ -20,8 +20,6 @@ namespace {
 
 using numerics::Clock;
 
-double pk2(double stress, double stretch) { return stress / (1.0 + stretch); }
-
 bool same_params(const yarn::YarnParams& a, const yarn::YarnParams& b) {
   return a.ks1 == b.ks1 && a.eps_s == b.eps_s && a.kb == b.kb && a.r1 == b.r1 && a.kc1 == b.kc1 && a.ks2 == b.ks2 &&
          a.kc2 == b.kc2 && a.r2 == b.r2;

@@ -7,12 +7,13 @@
 
 #include "numerics/util/clock.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::calibration {
 namespace {
 
-constexpr double k_inf = std::numeric_limits<double>::infinity();
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_inf;
+using numerics::k_nan;
 
 // A tile of the knit at aspect a and loop density K_s, held there, its crossings 2R apart.
 std::optional<db::PeriodicTile> shaped_tile(const db::KnitSpec& knit, double aspect, double density, double radius,

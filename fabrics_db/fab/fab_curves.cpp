@@ -1,4 +1,5 @@
 #include "fabrics_db/fab/fab_curves.hpp"
+#include "numerics/util/non_finite.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,7 @@
 namespace yarnfit::db {
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 struct Branch {
   std::vector<double> x, f;  // x ascending

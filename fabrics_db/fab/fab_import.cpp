@@ -17,12 +17,13 @@
 #include "fabrics_db/fab/fab_curves.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "fabrics_db/records/units.hpp"
 
 namespace yarnfit::db {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double k_mm = 1e-3;
+using units::k_mm;
 
 std::string lower_id(const std::string& text) {
   std::string id;

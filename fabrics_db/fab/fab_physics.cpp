@@ -10,6 +10,7 @@
 
 #include "fabrics_db/csv/csv_table.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "fabrics_db/records/units.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 constexpr double k_cm = 1e-2;
-constexpr double k_gsm = 1e-3;
+using units::k_gsm;
 constexpr double k_slack_fraction = 0.005;  // a sample 0.5 % below the taut length is slack
 constexpr std::uintmax_t k_max_file_bytes = 64u << 20;
 

@@ -10,14 +10,15 @@
 #include <yaml-cpp/yaml.h>
 
 #include "fabrics_db/text_util.hpp"
+#include "fabrics_db/records/units.hpp"
 
 namespace yarnfit::db {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double k_mm = 1e-3;
-constexpr double k_gsm = 1e-3;  // g/m² → kg/m²
+using units::k_gsm;
+using units::k_mm;
 constexpr double k_mass_fraction_tolerance = 0.01;
 
 // Walks one fabric.yaml, turning every problem into a Problem with the key's line.

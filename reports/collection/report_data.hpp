@@ -22,10 +22,11 @@
 #include <nlohmann/json.hpp>
 
 #include "reports/collection/fit_outputs.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::reports {
 
-inline constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 inline constexpr double k_good_fit_pct = 10.0;  // the thesis's "within 10 %" (Fig. 6.15)
 
 struct MetricInfo {

@@ -11,13 +11,14 @@
 #include "fabrics_db/text_util.hpp"
 #include "results/metrics/error_metrics.hpp"
 #include "reports/summaries/text.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::reports {
 
 namespace {
 
-constexpr double k_inf = std::numeric_limits<double>::infinity();
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_inf;
+using numerics::k_nan;
 
 // The optimised parameters in the order of the fit's parameter space (SPEC §3: p = {ks1, ε̄s,
 // kb, R1, kc1}); JSON objects sort their keys, the tables keep this order.

@@ -1,4 +1,5 @@
 #include "results/metrics/error_metrics.hpp"
+#include "numerics/util/non_finite.hpp"
 
 #include <cmath>
 #include <limits>
@@ -7,7 +8,7 @@ namespace yarnfit::results {
 
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 
 }  // namespace
 

@@ -19,8 +19,6 @@ namespace {
 using Vector12 = Eigen::Matrix<double, 12, 1>;
 using Matrix12 = Eigen::Matrix<double, 12, 12>;
 
-constexpr int k_parallel_threshold = 512;
-
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;
   s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
@@ -128,7 +126,7 @@ bool dihedral_derivatives(const Stencil& s, double& theta, Vector12& grad, Matri
   return true;
 }
 
-void check_size(const Eigen::VectorXd& x, int dofs, const char* what) {
+void check_bending_size(const Eigen::VectorXd& x, int dofs, const char* what) {
   if (x.size() != dofs) {
     throw std::invalid_argument(std::string("BendingTerm::") + what + ": expected " +
                                 std::to_string(dofs) + " coordinates, got " +
@@ -150,7 +148,7 @@ struct EdgeKernel {
   static constexpr int dofs_per_node = 3;
   static constexpr numerics::ElementSum summation = numerics::ElementSum::per_term;
   static constexpr bool zero_energy_is_inactive = false;
-  static constexpr int parallel_threshold = k_parallel_threshold;
+  static constexpr int parallel_threshold = 512;  // fewer elements: the OpenMP team costs more than it saves
 
   const std::vector<BendingTerm::Edge>& edges;
   Stiffness stiffness;
@@ -247,7 +245,7 @@ void BendingTerm::set_params(const BendingParams& params) {
 }
 
 double BendingTerm::dihedral_angle(const Eigen::VectorXd& x, int e) const {
-  check_size(x, dof_count(), "dihedral_angle");
+  check_bending_size(x, dof_count(), "dihedral_angle");
   return dihedral(gather(m_edges.at(static_cast<std::size_t>(e)), x));
 }
 
@@ -256,24 +254,24 @@ double BendingTerm::curvature(const Eigen::VectorXd& x, int e) const {
 }
 
 void BendingTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
-  check_size(x, dof_count(), "value");
+  check_bending_size(x, dof_count(), "value");
   numerics::add_element_values(edge_kernel(m_edges, k_edge_stiffness), x, energy);
 }
 
 void BendingTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
-  check_size(x, dof_count(), "add_gradient");
-  check_size(g, dof_count(), "add_gradient (gradient buffer)");
+  check_bending_size(x, dof_count(), "add_gradient");
+  check_bending_size(g, dof_count(), "add_gradient (gradient buffer)");
   numerics::add_element_gradients(edge_kernel(m_edges, k_edge_stiffness), x, g.data());
 }
 
 void BendingTerm::add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h,
                               const numerics::HessianOptions& options) const {
-  check_size(x, dof_count(), "add_hessian");
+  check_bending_size(x, dof_count(), "add_hessian");
   numerics::add_element_hessians(edge_kernel(m_edges, k_edge_stiffness), x, h, options);
 }
 
 void BendingTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
-  check_size(x, dof_count(), "add_gradient_per_parameter");
+  check_bending_size(x, dof_count(), "add_gradient_per_parameter");
   if (G.rows() != dof_count() || G.cols() != parameter_count) {
     throw std::invalid_argument("BendingTerm::add_gradient_per_parameter: G must be " +
                                 std::to_string(dof_count()) + " x 3, got " +
@@ -286,7 +284,7 @@ void BendingTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::Ma
 }
 
 Eigen::Vector3d BendingTerm::value_per_parameter(const Eigen::VectorXd& x) const {
-  check_size(x, dof_count(), "value_per_parameter");
+  check_bending_size(x, dof_count(), "value_per_parameter");
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   for (const Edge& e : m_edges) {
     const double theta = dihedral(gather(e, x));

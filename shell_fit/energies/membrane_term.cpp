@@ -12,9 +12,6 @@ namespace yarnfit::shell {
 
 namespace {
 
-// Below this many elements the OpenMP team costs more than it saves.
-constexpr int k_parallel_threshold = 512;
-
 std::vector<InplaneMaterial> unit_materials(const InplaneParams& p, double angle) {
   std::vector<InplaneMaterial> out;
   out.reserve(MembraneTerm::parameter_count);
@@ -90,7 +87,7 @@ struct Kernel {
   }
 };
 
-void check_size(const Eigen::VectorXd& x, int dofs, const char* what) {
+void check_membrane_size(const Eigen::VectorXd& x, int dofs, const char* what) {
   if (x.size() != dofs) {
     throw std::invalid_argument(std::string("MembraneTerm::") + what + ": expected " +
                                 std::to_string(dofs) + " coordinates, got " +
@@ -107,7 +104,7 @@ struct MembraneKernel {
   static constexpr int dofs_per_node = Dim;
   static constexpr numerics::ElementSum summation = numerics::ElementSum::per_term;
   static constexpr bool zero_energy_is_inactive = false;
-  static constexpr int parallel_threshold = k_parallel_threshold;
+  static constexpr int parallel_threshold = 512;  // fewer elements: the OpenMP team costs more than it saves
 
   const std::vector<MembraneTerm::Element>& elements;
   const InplaneMaterial& material;
@@ -174,23 +171,23 @@ void MembraneTerm::set_params(const InplaneParams& params) {
 }
 
 void MembraneTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
-  check_size(x, dof_count(), "value");
+  check_membrane_size(x, dof_count(), "value");
   with_kernel(m_dim, m_elements, m_material, [&](const auto& k) { numerics::add_element_values(k, x, energy); });
 }
 
 void MembraneTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
-  check_size(x, dof_count(), "add_gradient");
-  check_size(g, dof_count(), "add_gradient (gradient buffer)");
+  check_membrane_size(x, dof_count(), "add_gradient");
+  check_membrane_size(g, dof_count(), "add_gradient (gradient buffer)");
   with_kernel(m_dim, m_elements, m_material, [&](const auto& k) { numerics::add_element_gradients(k, x, g.data()); });
 }
 
 void MembraneTerm::add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, const numerics::HessianOptions& options) const {
-  check_size(x, dof_count(), "add_hessian");
+  check_membrane_size(x, dof_count(), "add_hessian");
   with_kernel(m_dim, m_elements, m_material, [&](const auto& k) { numerics::add_element_hessians(k, x, h, options); });
 }
 
 void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
-  check_size(x, dof_count(), "add_gradient_per_parameter");
+  check_membrane_size(x, dof_count(), "add_gradient_per_parameter");
   if (G.rows() != dof_count() || G.cols() != parameter_count) {
     throw std::invalid_argument("MembraneTerm::add_gradient_per_parameter: G must be " +
                                 std::to_string(dof_count()) + " x " + std::to_string(parameter_count) + ", got " +
@@ -204,7 +201,7 @@ void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::M
 }
 
 MembraneTerm::ParameterVector MembraneTerm::value_per_parameter(const Eigen::VectorXd& x) const {
-  check_size(x, dof_count(), "value_per_parameter");
+  check_membrane_size(x, dof_count(), "value_per_parameter");
   ParameterVector v;
   for (int k = 0; k < parameter_count; ++k) {
     double e = 0.0;

@@ -9,6 +9,7 @@
 #include "shell_fit/energies/lockup_curve.hpp"
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/fit/curve_interpolation.hpp"
+#include "numerics/util/index.hpp"
 
 #include <algorithm>
 #include <array>
@@ -22,7 +23,7 @@ namespace yarnfit::shell {
 
 namespace {
 
-std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+using numerics::idx;
 
 // Search range of the bending length relative to the free length: from a strip that hangs
 // as a hairpin (ℓ = L/100) to one that gravity hardly bends (ℓ = 10 L).
@@ -245,7 +246,6 @@ class LoopResiduals : public ceres::CostFunction {
   mutable std::vector<PearLoopRun> m_runs;
   mutable std::vector<std::string> m_effects;
 };
-
 
 }  // namespace
 

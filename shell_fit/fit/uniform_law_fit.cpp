@@ -8,11 +8,12 @@
 
 #include "shell_fit/fit/ceres_support.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::shell {
 namespace {
 
-constexpr double k_nan = std::numeric_limits<double>::quiet_NaN();
+using numerics::k_nan;
 using Values = std::array<double, k_inplane_param_count>;
 
 // Stiffnesses and lock-up growths are searched as logarithms (they are positive and span

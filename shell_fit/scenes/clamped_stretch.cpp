@@ -16,7 +16,7 @@ namespace yarnfit::shell {
 
 namespace {
 
-constexpr int k_dim = 2;
+constexpr int k_plane_dim = 2;
 
 using Weights = std::vector<std::pair<int, double>>;
 
@@ -30,7 +30,7 @@ Weights point_weights(const ShellMesh& mesh, const Eigen::Vector2d& rest_point) 
 
 Eigen::Vector2d position(const Weights& w, const Eigen::VectorXd& x) {
   Eigen::Vector2d p = Eigen::Vector2d::Zero();
-  for (const auto& [v, a] : w) p += a * x.segment<2>(k_dim * v);
+  for (const auto& [v, a] : w) p += a * x.segment<2>(k_plane_dim * v);
   return p;
 }
 
@@ -41,8 +41,8 @@ double distance(const Weights& a, const Weights& b, const Eigen::VectorXd& x, Ei
   if (grad) {
     grad->setZero(x.size());
     const Eigen::Vector2d n = d / len;
-    for (const auto& [v, w] : b) grad->segment<2>(k_dim * v) += w * n;
-    for (const auto& [v, w] : a) grad->segment<2>(k_dim * v) -= w * n;
+    for (const auto& [v, w] : b) grad->segment<2>(k_plane_dim * v) += w * n;
+    for (const auto& [v, w] : a) grad->segment<2>(k_plane_dim * v) -= w * n;
   }
   return len;
 }
@@ -73,10 +73,10 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
   const double tol = 1e-9 * setup.length;
   m_left = vertices_at_x(m_mesh, 0.0, tol);
   m_right = vertices_at_x(m_mesh, setup.length, tol);
-  for (int v : m_left) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
-  for (int v : m_right) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_dim * v, k_dim * v + 1});
+  for (int v : m_left) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_plane_dim * v, k_plane_dim * v + 1});
+  for (int v : m_right) m_fixed_dofs.insert(m_fixed_dofs.end(), {k_plane_dim * v, k_plane_dim * v + 1});
   // The free/clamped split depends only on the mesh; the sensitivities reuse it at every target.
-  m_free_index = free_dof_index(k_dim * m_mesh.vertex_count(), m_fixed_dofs, m_free_count);
+  m_free_index = free_dof_index(k_plane_dim * m_mesh.vertex_count(), m_fixed_dofs, m_free_count);
 
   const double mid = 0.5 * setup.length;
   if (setup.gauge_length) {
@@ -134,10 +134,10 @@ void size_warm_start(ClampedStretchWarmStart& warm, std::size_t count) {
 struct ClampedStretchScene::RunSolver {
   RunSolver(const ClampedStretchScene& of, const MembraneTerm& term, ClampedStretchRun& run,
             const NewtonOptions& load_step)
-      : scene(of), membrane(term), terms{&term}, out(run), options(load_step), n(k_dim * of.m_mesh.vertex_count()),
+      : scene(of), membrane(term), terms{&term}, out(run), options(load_step), n(k_plane_dim * of.m_mesh.vertex_count()),
         x(n) {
     for (int v = 0; v < scene.m_mesh.vertex_count(); ++v)
-      x.segment<2>(k_dim * v) = scene.m_mesh.rest.row(v).transpose();
+      x.segment<2>(k_plane_dim * v) = scene.m_mesh.rest.row(v).transpose();
     rest = x;
   }
 
@@ -154,11 +154,11 @@ struct ClampedStretchScene::RunSolver {
   // solution's x-coordinates affinely.
   void set_clamp(double u, Eigen::VectorXd& state) const {
     const double scale = (1.0 + u) / (1.0 + u_prev);
-    for (int v = 0; v < scene.m_mesh.vertex_count(); ++v) state[k_dim * v] *= scale;
-    for (int v : scene.m_left) state.segment<2>(k_dim * v) = rest.segment<2>(k_dim * v);
+    for (int v = 0; v < scene.m_mesh.vertex_count(); ++v) state[k_plane_dim * v] *= scale;
+    for (int v : scene.m_left) state.segment<2>(k_plane_dim * v) = rest.segment<2>(k_plane_dim * v);
     for (int v : scene.m_right) {
-      state[k_dim * v] = scene.m_setup.length * (1.0 + u);
-      state[k_dim * v + 1] = rest[k_dim * v + 1];
+      state[k_plane_dim * v] = scene.m_setup.length * (1.0 + u);
+      state[k_plane_dim * v + 1] = rest[k_plane_dim * v + 1];
     }
   }
 
@@ -182,7 +182,7 @@ struct ClampedStretchScene::RunSolver {
       s = solve_continuation(terms, trial, scene.m_fixed_dofs,
                              [&](double lambda, Eigen::VectorXd& state) {
                                const double target = u0 + lambda * (u - u0);
-                               for (int v : scene.m_right) state[k_dim * v] = scene.m_setup.length * (1.0 + target);
+                               for (int v : scene.m_right) state[k_plane_dim * v] = scene.m_setup.length * (1.0 + target);
                              },
                              copt);
     }
@@ -218,7 +218,7 @@ struct ClampedStretchScene::RunSolver {
   double measured(const Eigen::VectorXd& state, Eigen::VectorXd* grad) const {
     if (scene.m_stretch_from_clamps) {
       if (grad) grad->setZero(n);
-      return state[k_dim * scene.m_right[0]] / scene.m_setup.length - 1.0;
+      return state[k_plane_dim * scene.m_right[0]] / scene.m_setup.length - 1.0;
     }
     return distance(scene.m_len_a, scene.m_len_b, state, grad) / scene.m_rest_len - 1.0;
   }
@@ -282,7 +282,7 @@ struct ClampedStretchScene::RunSolver {
     sample.clamp_stretch = u;
     sample.measured_stretch = measured(x, nullptr);
     const Eigen::VectorXd g = total_gradient(terms, x);
-    for (int v : scene.m_right) sample.force += g[k_dim * v];
+    for (int v : scene.m_right) sample.force += g[k_plane_dim * v];
     for (int d = 0; d < n; ++d)
       if (scene.m_free_index[static_cast<std::size_t>(d)] >= 0)
         sample.residual = std::max(sample.residual, std::abs(g[d]));
@@ -309,7 +309,7 @@ struct ClampedStretchScene::RunSolver {
     const Eigen::SparseMatrix<double>& H = out_d.H = total_hessian(terms, x, false);
     Eigen::VectorXd hfc_du = Eigen::VectorXd::Zero(nf);  // H_fc · ∂x_c/∂u
     Eigen::VectorXd dxc_du = Eigen::VectorXd::Zero(n);
-    for (int v : scene.m_right) dxc_du[k_dim * v] = scene.m_setup.length;
+    for (int v : scene.m_right) dxc_du[k_plane_dim * v] = scene.m_setup.length;
     Eigen::VectorXd hxc_du = H * dxc_du;  // full-length product, rows split below
     for (int d = 0; d < n; ++d)
       if (free_index[static_cast<std::size_t>(d)] >= 0) hfc_du[free_index[static_cast<std::size_t>(d)]] = hxc_du[d];
@@ -344,8 +344,8 @@ struct ClampedStretchScene::RunSolver {
     const Eigen::MatrixXd Hdx = dv.H * dv.dx;
     Eigen::Matrix<double, np + 1, 1> dF = Eigen::Matrix<double, np + 1, 1>::Zero();
     for (int v : scene.m_right) {
-      dF += Hdx.row(k_dim * v).transpose();
-      dF.head<np>() += dv.G.row(k_dim * v).transpose();
+      dF += Hdx.row(k_plane_dim * v).transpose();
+      dF.head<np>() += dv.G.row(k_plane_dim * v).transpose();
     }
     Eigen::VectorXd dmeasured(n);
     measured(x, &dmeasured);
@@ -364,7 +364,7 @@ ClampedStretchRun ClampedStretchScene::run(const InplaneParams& params, const st
                                            bool with_sensitivities, ClampedStretchWarmStart* warm) const {
   const auto start = numerics::Clock::now();
   ClampedStretchRun out;
-  const MembraneTerm membrane(m_mesh, params, k_dim);
+  const MembraneTerm membrane(m_mesh, params, k_plane_dim);
   RunSolver solver(*this, membrane, out, load_step_options(params, m_setup.width));
   out.effects = numerics::term_names(solver.terms);
   // A warm state's solve that needs more than this is not worth finishing: the target is then

@@ -11,17 +11,17 @@
 #include "shell_fit/energies/membrane_term.hpp"
 #include "shell_fit/mesh/rect_mesh.hpp"
 #include "shell_fit/solver/static_equilibrium.hpp"
+#include "numerics/util/index.hpp"
 
 namespace yarnfit::shell {
 
 namespace {
 
-constexpr int k_dim = 3;
-constexpr double pi = std::numbers::pi;
+using std::numbers::pi;
 constexpr int k_default_cells_along = 24;
 constexpr double k_cell_aspect = 4.0;  // cell length along / width across
 
-std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+using numerics::idx;
 
 // Bisection on a function that changes sign once on [lo, hi].
 template <typename F>
@@ -78,7 +78,7 @@ LoopBendScene::LoopBendScene(const LoopBendSetup& setup) : m_setup(setup) {
   const auto clamped = vertices_where(m_mesh, [&](const Eigen::Vector2d& p) {
     return p.x() <= m_clamp + tol || p.x() >= setup.length - tol;
   });
-  m_fixed_dofs = vertex_dofs(clamped, k_dim);
+  m_fixed_dofs = vertex_dofs(clamped, BendingTerm::dim);
   m_centre_line = vertices_at_y(m_mesh, 0.0, tol);
 }
 
@@ -99,7 +99,7 @@ Eigen::VectorXd LoopBendScene::initial_state(double clamp_distance) const {
   }
   // The numerical span differs from d by the quadrature's error; scale x to close exactly.
   const double scale = d / xs.back();
-  Eigen::VectorXd x(k_dim * m_mesh.vertex_count());
+  Eigen::VectorXd x(BendingTerm::dim * m_mesh.vertex_count());
   const double half = 0.5 * m_clamp;  // the clamps act half a cell inside their cells
   for (int v = 0; v < m_mesh.vertex_count(); ++v) {
     const double X = m_mesh.rest(v, 0), Y = m_mesh.rest(v, 1);
@@ -116,7 +116,7 @@ Eigen::VectorXd LoopBendScene::initial_state(double clamp_distance) const {
       px = -0.5 * d + scale * ((1.0 - t) * xs[idx(i)] + t * xs[idx(i + 1)]);
       pz = (1.0 - t) * zs[idx(i)] + t * zs[idx(i + 1)];
     }
-    x.segment<3>(k_dim * v) << px, Y, pz;
+    x.segment<3>(BendingTerm::dim * v) << px, Y, pz;
   }
   return x;
 }
@@ -125,7 +125,7 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
                                std::vector<Eigen::VectorXd>* warm) const {
   const auto start = numerics::Clock::now();
   LoopBendRun out;
-  const MembraneTerm membrane(m_mesh, params.inplane, k_dim);
+  const MembraneTerm membrane(m_mesh, params.inplane, BendingTerm::dim);
   const BendingTerm bending(m_mesh, params.bending);
   const GravityTerm gravity(m_mesh, m_setup.areal_density, m_setup.gravity);
   const TermList terms{&membrane, &bending, &gravity};
@@ -176,11 +176,11 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
       if (!sample.converged) sample.message = "loop at clamp distance " + std::to_string(d) + " m: " + summary.brief();
       // The clamp's reaction on the strip is +∂E/∂x; the strip's force on the load cell, along
       // the pull (+x from the stationary clamp), is its negative.
-      sample.force = -clamp_force(terms, x, m_stationary, k_dim, 0);
+      sample.force = -clamp_force(terms, x, m_stationary, BendingTerm::dim, 0);
       // A failed point seeds nothing: its state is of no equilibrium, nor of this k_θ's.
       if (warm) (*warm)[i] = sample.converged ? x : Eigen::VectorXd();
       for (const int v : m_centre_line)
-        if (std::abs(x[k_dim * v + 2]) > std::abs(sample.height)) sample.height = x[k_dim * v + 2];
+        if (std::abs(x[BendingTerm::dim * v + 2]) > std::abs(sample.height)) sample.height = x[BendingTerm::dim * v + 2];
       if (sample.converged)
         for (int e = 0; e < static_cast<int>(bending.edges().size()); ++e)
           sample.max_curvature = std::max(sample.max_curvature, std::abs(bending.curvature(x, e)));

@@ -15,19 +15,18 @@
 #include "shell_fit/energies/gravity_term.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
 #include "shell_fit/mesh/rect_mesh.hpp"
+#include "numerics/util/index.hpp"
 
 namespace yarnfit::shell {
 
 namespace {
 
-constexpr int k_dim = 3;
-constexpr double pi = std::numbers::pi;
+using std::numbers::pi;
 
 // B = 2 k_θ (pear_loop.hpp).
 constexpr double k_bending_factor = 2.0;
 
-
-std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+using numerics::idx;
 
 // The left half of the start loop, sampled at `segments` equal arc steps of S/segments:
 // positions relative to the left clamp (x right, z up), the strip leaving it straight down.
@@ -85,8 +84,8 @@ struct CentreLine {
 CentreLine centre_line_of(const Eigen::VectorXd& x, const std::vector<int>& vertices) {
   CentreLine out;
   for (int v : vertices) {
-    out.x.push_back(x[k_dim * v]);
-    out.z.push_back(x[k_dim * v + 2]);
+    out.x.push_back(x[BendingTerm::dim * v]);
+    out.z.push_back(x[BendingTerm::dim * v + 2]);
   }
   return out;
 }
@@ -132,7 +131,7 @@ PearLoopScene::PearLoopScene(const PearLoopSetup& setup) : m_setup(setup) {
   const auto clamped = vertices_where(m_mesh, [&](const Eigen::Vector2d& p) {
     return p.x() <= m_clamp + tol || p.x() >= setup.length + m_clamp - tol;
   });
-  m_fixed_dofs = vertex_dofs(clamped, k_dim);
+  m_fixed_dofs = vertex_dofs(clamped, BendingTerm::dim);
   m_centre_line = vertices_at_y(m_mesh, 0.0, tol);
 
   // The loop bends the edges across the strip (rest direction along y); the others stay flat.
@@ -187,7 +186,7 @@ Eigen::VectorXd PearLoopScene::initial_state(double clamp_distance) const {
     z = (1.0 - t) * h.z[idx(i)] + t * h.z[idx(i + 1)];
   };
 
-  Eigen::VectorXd x(k_dim * m_mesh.vertex_count());
+  Eigen::VectorXd x(BendingTerm::dim * m_mesh.vertex_count());
   for (int v = 0; v < m_mesh.vertex_count(); ++v) {
     const double X = m_mesh.rest(v, 0), Y = m_mesh.rest(v, 1);
     const double s = X - m_clamp;  // arc length from the left clamp
@@ -205,7 +204,7 @@ Eigen::VectorXd PearLoopScene::initial_state(double clamp_distance) const {
       at(L - s, px, pz);
       px = 0.5 * d - px;
     }
-    x.segment<3>(k_dim * v) << px, Y, pz;
+    x.segment<3>(BendingTerm::dim * v) << px, Y, pz;
   }
   return x;
 }
@@ -350,7 +349,7 @@ void add_aspect_sensitivities(const LoopSensitivityInputs& in, const Eigen::Vect
     if (in.free_index[idx(dof)] >= 0) rhs.row(in.free_index[idx(dof)]) = -G.row(dof);
   const Eigen::MatrixXd dxf = ldlt.solve(rhs);  // dx_f/dk, nf × 3
   const auto dof_row = [&](int v, int axis) -> Eigen::RowVector3d {
-    const int f = in.free_index[idx(k_dim * v + axis)];
+    const int f = in.free_index[idx(BendingTerm::dim * v + axis)];
     return f >= 0 ? Eigen::RowVector3d(dxf.row(f)) : Eigen::RowVector3d::Zero();
   };
   const CentreLine line = centre_line_of(x, in.centre_line);
@@ -378,12 +377,12 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
                                bool with_sensitivities, PearLoopWarmStart* warm) const {
   const auto start = numerics::Clock::now();
   PearLoopRun out;
-  const MembraneTerm membrane(m_mesh, params.inplane, k_dim);
+  const MembraneTerm membrane(m_mesh, params.inplane, BendingTerm::dim);
   const BendingTerm bending(m_mesh, params.bending);
   const GravityTerm gravity(m_mesh, m_setup.areal_density, m_setup.gravity);
   const TermList terms{&membrane, &bending, &gravity};
   out.effects = numerics::term_names(terms);
-  const int n = k_dim * m_mesh.vertex_count();
+  const int n = BendingTerm::dim * m_mesh.vertex_count();
   const LoopNewton newton = loop_newton(m_setup, params.bending);
   // Free-DOF numbering for the sensitivities.
   int nf = 0;

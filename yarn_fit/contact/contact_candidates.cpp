@@ -5,15 +5,16 @@
 #include <limits>
 
 #include "numerics/geometry/segment_distance.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::yarn {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 struct Box {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf);
-  Eigen::Vector3d hi = Eigen::Vector3d::Constant(-kInf);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(k_inf);
+  Eigen::Vector3d hi = Eigen::Vector3d::Constant(-k_inf);
   void add(const Eigen::Vector3d& p) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);

@@ -7,11 +7,12 @@
 
 #include "yarn_fit/energies/yarn_bending_term.hpp"
 #include "yarn_fit/energies/yarn_stretch_term.hpp"
+#include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::yarn {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using numerics::k_inf;
 
 }  // namespace
 
@@ -127,14 +128,14 @@ void YarnSystem::build_constraints() {
 double YarnSystem::energy(const Eigen::VectorXd& g) const {
   double total = 0.0;
   for (const auto& term : m_terms) term->add_value(g, total);
-  return std::isfinite(total) ? total : kInf;
+  return std::isfinite(total) ? total : k_inf;
 }
 
 double YarnSystem::energy_gradient(const Eigen::VectorXd& g, Eigen::VectorXd& gradient) const {
   gradient = Eigen::VectorXd::Zero(dof_count());
   double total = 0.0;
   for (const auto& term : m_terms) term->add_value_gradient(g, total, gradient);
-  return std::isfinite(total) ? total : kInf;
+  return std::isfinite(total) ? total : k_inf;
 }
 
 void YarnSystem::hessian(const Eigen::VectorXd& g, Triplets& out, bool project_psd, bool lower_only) const {
@@ -212,7 +213,7 @@ double YarnSystem::collision_free_fraction(const Eigen::VectorXd& g, const Eigen
 }
 
 double YarnSystem::min_contact_distance(const Eigen::VectorXd& g) const {
-  return m_contact != nullptr ? m_contact->min_distance(g) : kInf;
+  return m_contact != nullptr ? m_contact->min_distance(g) : k_inf;
 }
 
 }  // namespace yarnfit::yarn
