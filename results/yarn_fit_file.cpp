@@ -362,6 +362,69 @@ std::map<std::string, double> named_times(const YarnTiming& t) {
           {"total", t.total}};
 }
 
+// The shape search's record: the aspect, its prior and bounds, and every trial.
+json shape_json(const ShapeRecord& sh) {
+  json trials = json::array();
+  for (const auto& t : sh.trials)
+    trials.push_back({{"aspect", t.aspect},
+                      {"held", t.held},
+                      {"objective", pct_json(t.objective)},
+                      {"r1_m", t.r1_m},
+                      {"full_fit", t.full_fit},
+                      {"seconds", t.seconds},
+                      {"message", t.message}});
+  return {{"aspect", sh.aspect},
+          {"held", sh.held},
+          {"prior", sh.prior},
+          {"prior_source", sh.prior_source},
+          {"bounds", {{"lower", sh.lower}, {"upper", sh.upper}}},
+          {"range", {pct_json(sh.range_lower), pct_json(sh.range_upper)}},
+          {"wale_spacing_mm", sh.wale_spacing_mm},
+          {"course_spacing_mm", sh.course_spacing_mm},
+          {"wales_per_10cm", 100.0 / sh.wale_spacing_mm},
+          {"courses_per_10cm", 100.0 / sh.course_spacing_mm},
+          {"trials", trials},
+          {"seconds", sh.seconds}};
+}
+
+// The tile the fit ran on: where it came from, its period and gauge, and the record's gauge.
+json fitted_tile_json(const FittedTileRecord& t) {
+  json tile = {{"source", t.source},
+               {"period_mm", {{"weft", t.period_weft_mm}, {"warp", t.period_warp_mm}}},
+               {"yarn_radius_mm", t.yarn_radius_mm},
+               {"wales", t.wales},
+               {"courses", t.courses},
+               {"wales_per_10cm", pct_json(t.wales_per_10cm)},
+               {"courses_per_10cm", pct_json(t.courses_per_10cm)}};
+  if (t.record_wales_per_10cm && t.record_courses_per_10cm)
+    tile["record_gauge"] = {{"wales_per_10cm", *t.record_wales_per_10cm}, {"courses_per_10cm", *t.record_courses_per_10cm}};
+  return tile;
+}
+
+// The check against the record's measured curves: its errors, and the homogenised law fitted
+// through the fitted yarn model's curves.
+void add_measured_json(json& j, const MeasuredCheckRecord& m) {
+  json vs = direction_errors_json(m.by_direction);
+  vs["all"] = {{"stretch_force_pct", pct_json(m.all.stretch_force_pct)},
+               {"compression_pct", pct_json(m.all.compression_pct)},
+               {"bending_pct", pct_json(m.all.bending_pct)}};
+  j["errors_vs_measured"] = vs;
+  json law_curves = json::array(), bending = json::array();
+  for (const auto& c : m.curves) law_curves.push_back(curves_json(c));
+  for (const auto& c : m.bending_curves) bending.push_back(bending_curve_json(c));
+  j["homogenised_law"] = {{"ok", m.ok},
+                          {"message", m.message},
+                          {"model", m.law_model},
+                          {"params", m.law_params},
+                          {"misfit_pct",
+                           {{"stress", pct_json(m.law_stress_misfit_pct)},
+                            {"compression", pct_json(m.law_compression_misfit_pct)},
+                            {"bending", pct_json(m.law_bending_misfit_pct)}}},
+                          {"curves", law_curves},
+                          {"bending_curves", bending},
+                          {"seconds", m.seconds}};
+}
+
 json to_json(const YarnFitFile& f) {
   json errors = json::object();
   for (const auto& [name, v] : named_errors(f.errors)) errors[name] = pct_json(v);
@@ -391,65 +454,9 @@ json to_json(const YarnFitFile& f) {
   if (f.identifiability) j["identifiability"] = identifiability_json(*f.identifiability);
   if (f.swarm) j["swarm"] = swarm_json(*f.swarm);
   if (f.global) j["global"] = global_json(*f.global);
-  if (f.shape) {
-    const ShapeRecord& sh = *f.shape;
-    json trials = json::array();
-    for (const auto& t : sh.trials)
-      trials.push_back({{"aspect", t.aspect},
-                        {"held", t.held},
-                        {"objective", pct_json(t.objective)},
-                        {"r1_m", t.r1_m},
-                        {"full_fit", t.full_fit},
-                        {"seconds", t.seconds},
-                        {"message", t.message}});
-    j["shape"] = {{"aspect", sh.aspect},
-                  {"held", sh.held},
-                  {"prior", sh.prior},
-                  {"prior_source", sh.prior_source},
-                  {"bounds", {{"lower", sh.lower}, {"upper", sh.upper}}},
-                  {"range", {pct_json(sh.range_lower), pct_json(sh.range_upper)}},
-                  {"wale_spacing_mm", sh.wale_spacing_mm},
-                  {"course_spacing_mm", sh.course_spacing_mm},
-                  {"wales_per_10cm", 100.0 / sh.wale_spacing_mm},
-                  {"courses_per_10cm", 100.0 / sh.course_spacing_mm},
-                  {"trials", trials},
-                  {"seconds", sh.seconds}};
-  }
-  if (f.tile) {
-    const FittedTileRecord& t = *f.tile;
-    json tile = {{"source", t.source},
-                 {"period_mm", {{"weft", t.period_weft_mm}, {"warp", t.period_warp_mm}}},
-                 {"yarn_radius_mm", t.yarn_radius_mm},
-                 {"wales", t.wales},
-                 {"courses", t.courses},
-                 {"wales_per_10cm", pct_json(t.wales_per_10cm)},
-                 {"courses_per_10cm", pct_json(t.courses_per_10cm)}};
-    if (t.record_wales_per_10cm && t.record_courses_per_10cm)
-      tile["record_gauge"] = {{"wales_per_10cm", *t.record_wales_per_10cm}, {"courses_per_10cm", *t.record_courses_per_10cm}};
-    j["tile"] = tile;
-  }
-  if (f.measured) {
-    const MeasuredCheckRecord& m = *f.measured;
-    json vs = direction_errors_json(m.by_direction);
-    vs["all"] = {{"stretch_force_pct", pct_json(m.all.stretch_force_pct)},
-                 {"compression_pct", pct_json(m.all.compression_pct)},
-                 {"bending_pct", pct_json(m.all.bending_pct)}};
-    j["errors_vs_measured"] = vs;
-    json law_curves = json::array(), bending = json::array();
-    for (const auto& c : m.curves) law_curves.push_back(curves_json(c));
-    for (const auto& c : m.bending_curves) bending.push_back(bending_curve_json(c));
-    j["homogenised_law"] = {{"ok", m.ok},
-                            {"message", m.message},
-                            {"model", m.law_model},
-                            {"params", m.law_params},
-                            {"misfit_pct",
-                             {{"stress", pct_json(m.law_stress_misfit_pct)},
-                              {"compression", pct_json(m.law_compression_misfit_pct)},
-                              {"bending", pct_json(m.law_bending_misfit_pct)}}},
-                            {"curves", law_curves},
-                            {"bending_curves", bending},
-                            {"seconds", m.seconds}};
-  }
+  if (f.shape) j["shape"] = shape_json(*f.shape);
+  if (f.tile) j["tile"] = fitted_tile_json(*f.tile);
+  if (f.measured) add_measured_json(j, *f.measured);
   if (f.local) {
     j["local"] = local_run_json(f.local->best);
     json runs = json::array();
@@ -457,6 +464,77 @@ json to_json(const YarnFitFile& f) {
     j["local"]["runs"] = runs;
   }
   return j;
+}
+
+ShapeRecord read_shape(const json& j, const Where& w) {
+  expect_object(j, w);
+  ShapeRecord sh;
+  sh.aspect = number(j, "aspect", w, k_nan);
+  sh.held = boolean(j, "held", w, false);
+  sh.prior = number(j, "prior", w, k_nan);
+  sh.prior_source = string(j, "prior_source", w);
+  const json& bounds = object_or_empty(j, "bounds", w);
+  sh.lower = number(bounds, "lower", w / "bounds", k_nan);
+  sh.upper = number(bounds, "upper", w / "bounds", k_nan);
+  const std::vector<double> range = numbers(j, "range", w);
+  sh.range_lower = range.size() == 2 ? range[0] : k_nan;
+  sh.range_upper = range.size() == 2 ? range[1] : k_nan;
+  sh.wale_spacing_mm = number(j, "wale_spacing_mm", w, k_nan);
+  sh.course_spacing_mm = number(j, "course_spacing_mm", w, k_nan);
+  for_each_object(j, "trials", w, [&sh](const json& x, const Where& wx) {
+    sh.trials.push_back({number(x, "aspect", wx, k_nan), boolean(x, "held", wx, true), number(x, "objective", wx, k_nan),
+                         number(x, "r1_m", wx, k_nan),
+                         boolean(x, "full_fit", wx, false), number(x, "seconds", wx, k_nan), string(x, "message", wx)});
+  });
+  sh.seconds = number(j, "seconds", w, k_nan);
+  return sh;
+}
+
+FittedTileRecord read_fitted_tile(const json& j, const Where& w) {
+  expect_object(j, w);
+  FittedTileRecord ft;
+  ft.source = string(j, "source", w);
+  const json& period = object_or_empty(j, "period_mm", w);
+  ft.period_weft_mm = number(period, "weft", w / "period_mm", k_nan);
+  ft.period_warp_mm = number(period, "warp", w / "period_mm", k_nan);
+  ft.yarn_radius_mm = number(j, "yarn_radius_mm", w, k_nan);
+  ft.wales = static_cast<int>(number(j, "wales", w, 0.0));
+  ft.courses = static_cast<int>(number(j, "courses", w, 0.0));
+  ft.wales_per_10cm = number(j, "wales_per_10cm", w, k_nan);
+  ft.courses_per_10cm = number(j, "courses_per_10cm", w, k_nan);
+  if (const json* g = member(j, "record_gauge")) {
+    const Where wg = w / "record_gauge";
+    expect_object(*g, wg);
+    ft.record_wales_per_10cm = number(*g, "wales_per_10cm", wg, k_nan);
+    ft.record_courses_per_10cm = number(*g, "courses_per_10cm", wg, k_nan);
+  }
+  return ft;
+}
+
+// The measured check: `law` is the file's homogenised_law, and its errors are the file's
+// errors_vs_measured beside it.
+MeasuredCheckRecord read_measured(const json& j, const json& law, const Where& at) {
+  const Where w = at / "homogenised_law";
+  expect_object(law, w);
+  MeasuredCheckRecord m;
+  m.ok = boolean(law, "ok", w, false);
+  m.message = string(law, "message", w);
+  m.law_model = string(law, "model", w);
+  m.law_params = number_map(law, "params", w);
+  const json& misfit = object_or_empty(law, "misfit_pct", w);
+  m.law_stress_misfit_pct = number(misfit, "stress", w / "misfit_pct", k_nan);
+  m.law_compression_misfit_pct = number(misfit, "compression", w / "misfit_pct", k_nan);
+  m.law_bending_misfit_pct = number(misfit, "bending", w / "misfit_pct", k_nan);
+  for_each_object(law, "curves", w, [&m](const json& c, const Where& wc) { m.curves.push_back(read_curves(c, wc)); });
+  for_each_object(law, "bending_curves", w,
+                  [&m](const json& c, const Where& wc) { m.bending_curves.push_back(read_bending_curve(c, wc)); });
+  m.seconds = number(law, "seconds", w, k_nan);
+  for (const auto& [name, e] : object_or_empty(j, "errors_vs_measured", at).items()) {
+    const ShellDirectionErrors read = read_shell_errors(e, at / "errors_vs_measured" / name);
+    if (name == "all") m.all = {read.stretch_force_pct, read.compression_pct, read.bending_pct};
+    else m.by_direction[name] = read;
+  }
+  return m;
 }
 
 YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
@@ -497,74 +575,9 @@ YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
   f.settings = read_settings(object_or_empty(j, "settings", at), at / "settings");
   if (const json* s = member(j, "swarm")) f.swarm = read_swarm(*s, at / "swarm");
   if (const json* g = member(j, "global")) f.global = read_global(*g, at / "global");
-  if (const json* shape = member(j, "shape")) {
-    const Where w = at / "shape";
-    expect_object(*shape, w);
-    ShapeRecord sh;
-    sh.aspect = number(*shape, "aspect", w, k_nan);
-    sh.held = boolean(*shape, "held", w, false);
-    sh.prior = number(*shape, "prior", w, k_nan);
-    sh.prior_source = string(*shape, "prior_source", w);
-    const json& bounds = object_or_empty(*shape, "bounds", w);
-    sh.lower = number(bounds, "lower", w / "bounds", k_nan);
-    sh.upper = number(bounds, "upper", w / "bounds", k_nan);
-    const std::vector<double> range = numbers(*shape, "range", w);
-    sh.range_lower = range.size() == 2 ? range[0] : k_nan;
-    sh.range_upper = range.size() == 2 ? range[1] : k_nan;
-    sh.wale_spacing_mm = number(*shape, "wale_spacing_mm", w, k_nan);
-    sh.course_spacing_mm = number(*shape, "course_spacing_mm", w, k_nan);
-    for_each_object(*shape, "trials", w, [&sh](const json& x, const Where& wx) {
-      sh.trials.push_back({number(x, "aspect", wx, k_nan), boolean(x, "held", wx, true), number(x, "objective", wx, k_nan),
-                           number(x, "r1_m", wx, k_nan),
-                           boolean(x, "full_fit", wx, false), number(x, "seconds", wx, k_nan), string(x, "message", wx)});
-    });
-    sh.seconds = number(*shape, "seconds", w, k_nan);
-    f.shape = std::move(sh);
-  }
-  if (const json* tile = member(j, "tile")) {
-    const Where w = at / "tile";
-    expect_object(*tile, w);
-    FittedTileRecord ft;
-    ft.source = string(*tile, "source", w);
-    const json& period = object_or_empty(*tile, "period_mm", w);
-    ft.period_weft_mm = number(period, "weft", w / "period_mm", k_nan);
-    ft.period_warp_mm = number(period, "warp", w / "period_mm", k_nan);
-    ft.yarn_radius_mm = number(*tile, "yarn_radius_mm", w, k_nan);
-    ft.wales = static_cast<int>(number(*tile, "wales", w, 0.0));
-    ft.courses = static_cast<int>(number(*tile, "courses", w, 0.0));
-    ft.wales_per_10cm = number(*tile, "wales_per_10cm", w, k_nan);
-    ft.courses_per_10cm = number(*tile, "courses_per_10cm", w, k_nan);
-    if (const json* g = member(*tile, "record_gauge")) {
-      const Where wg = w / "record_gauge";
-      expect_object(*g, wg);
-      ft.record_wales_per_10cm = number(*g, "wales_per_10cm", wg, k_nan);
-      ft.record_courses_per_10cm = number(*g, "courses_per_10cm", wg, k_nan);
-    }
-    f.tile = std::move(ft);
-  }
-  if (const json* law = member(j, "homogenised_law")) {
-    const Where w = at / "homogenised_law";
-    expect_object(*law, w);
-    MeasuredCheckRecord m;
-    m.ok = boolean(*law, "ok", w, false);
-    m.message = string(*law, "message", w);
-    m.law_model = string(*law, "model", w);
-    m.law_params = number_map(*law, "params", w);
-    const json& misfit = object_or_empty(*law, "misfit_pct", w);
-    m.law_stress_misfit_pct = number(misfit, "stress", w / "misfit_pct", k_nan);
-    m.law_compression_misfit_pct = number(misfit, "compression", w / "misfit_pct", k_nan);
-    m.law_bending_misfit_pct = number(misfit, "bending", w / "misfit_pct", k_nan);
-    for_each_object(*law, "curves", w, [&m](const json& c, const Where& wc) { m.curves.push_back(read_curves(c, wc)); });
-    for_each_object(*law, "bending_curves", w,
-                    [&m](const json& c, const Where& wc) { m.bending_curves.push_back(read_bending_curve(c, wc)); });
-    m.seconds = number(*law, "seconds", w, k_nan);
-    for (const auto& [name, e] : object_or_empty(j, "errors_vs_measured", at).items()) {
-      const ShellDirectionErrors read = read_shell_errors(e, at / "errors_vs_measured" / name);
-      if (name == "all") m.all = {read.stretch_force_pct, read.compression_pct, read.bending_pct};
-      else m.by_direction[name] = read;
-    }
-    f.measured = std::move(m);
-  }
+  if (const json* shape = member(j, "shape")) f.shape = read_shape(*shape, at / "shape");
+  if (const json* tile = member(j, "tile")) f.tile = read_fitted_tile(*tile, at / "tile");
+  if (const json* law = member(j, "homogenised_law")) f.measured = read_measured(j, *law, at);
   if (const json* l = member(j, "local")) {
     LocalRecord local{read_local_run(*l, at / "local"), {}};
     for_each_object(*l, "runs", at / "local",

@@ -247,6 +247,85 @@ class LoopResiduals : public ceres::CostFunction {
   mutable std::vector<std::string> m_effects;
 };
 
+// "bending test D has no points" for the first direction without points, or empty.
+std::string test_without_points(const std::vector<BendingDirectionFit>& directions) {
+  for (const auto& d : directions)
+    if (d.clamp_distance.empty()) return "bending test " + std::string(db::to_string(d.direction)) + " has no points";
+  return {};
+}
+
+// The error progress shows: the root-mean-square aspect-ratio residual over the mean measured
+// ratio [%], from the cost (half the sum of squares).
+std::function<double(double)> displayed_error(const std::vector<BendingDirectionFit>& directions) {
+  double r_sum = 0.0, n_res = 0.0;
+  for (const auto& d : directions)
+    for (double r : d.measured_aspect_ratio) {
+      r_sum += std::abs(r);
+      n_res += 1.0;
+    }
+  const double r_mean = std::max(r_sum / std::max(n_res, 1.0), 1e-12);
+  return [n_res, r_mean](double c) { return 100.0 * std::sqrt(2.0 * c / std::max(n_res, 1.0)) / r_mean; };
+}
+
+// The search box in log k_θ per free slot, from the bending lengths the tests that measure it
+// allow, and the start clamped into it.
+void search_box(const db::Fabric& fabric, const InplaneParams& inplane, double rho, const BendingFitOptions& options,
+                const std::vector<int>& free, const BendingParams& start, std::vector<double>& q,
+                std::vector<double>& q_lo, std::vector<double>& q_hi) {
+  for (int j : free) {
+    double lo = 0.0, hi = 0.0;
+    for (const auto& [dir, test] : fabric.bending_tests) {
+      const auto [a, b] = length_bounds(test, inplane, rho, options.gravity);
+      const double ka = ktheta_for_bending_length(a, rho, options.gravity);
+      const double kb = ktheta_for_bending_length(b, rho, options.gravity);
+      lo = lo == 0.0 ? ka : std::min(lo, ka);
+      hi = std::max(hi, kb);
+    }
+    q_lo.push_back(std::log(lo));
+    q_hi.push_back(std::log(hi));
+    q.push_back(std::clamp(std::log(start.ktheta[idx(j)]), q_lo.back(), q_hi.back()));
+  }
+}
+
+// What the result says of the held slots, the search box and the free slots that ended on it.
+void report_held_and_bounds(BendingFitResult& result, const std::vector<int>& free, const std::vector<int>& held,
+                            const std::vector<double>& q, const std::vector<double>& q_lo,
+                            const std::vector<double>& q_hi) {
+  for (int h : held) {
+    result.not_identified.push_back(std::string(k_bending_names[h]) + ": no " +
+                                    std::string(db::to_string(static_cast<db::Direction>(h))) +
+                                    " bending test (held at the geometric mean of the fitted k_theta: " +
+                                    numerics::format_number(result.params.ktheta[idx(h)], 4) + " N*m)");
+  }
+  for (std::size_t j = 0; j < free.size(); ++j)
+    result.bounds[k_bending_names[free[j]]] = {std::exp(q_lo[j]), std::exp(q_hi[j])};
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    if (q[j] - q_lo[j] < 1e-3 || q_hi[j] - q[j] < 1e-3) result.at_bounds.push_back(k_bending_names[free[j]]);
+  }
+  if (!result.at_bounds.empty()) {
+    result.message += " (on a search bound: the measured aspect ratios lie outside what the model reaches"
+                      " between a hanging hairpin and a weightless elastica)";
+  }
+}
+
+// The errors at the solution when its final evaluation succeeded: the largest curvature per slot
+// and the aspect-ratio error; otherwise no curves and the reason.
+void record_errors(BendingFitResult& result, bool final_ok) {
+  if (final_ok) {
+    for (const auto& d : result.directions) {
+      auto& m = result.max_curvature[d.parameter];
+      m = std::max(m.value_or(0.0), d.max_curvature);
+    }
+    results::ShellErrorSum error;
+    for (const auto& d : result.directions) error.add(d.measured_aspect_ratio, d.simulated_aspect_ratio);
+    result.bending_pct = error.pct();
+  } else {
+    // The curves belong to the last point that simulated (some directions may be older still).
+    for (auto& d : result.directions) d.simulated_aspect_ratio.clear();
+    result.errors_reason = result.message;
+  }
+}
+
 }  // namespace
 
 BendingDirectionFit make_bending_targets(const db::BendingTest& test) {
@@ -313,25 +392,12 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     measured[idx(t.parameter)] = true;
     result.directions.push_back(std::move(t));
   }
-  for (const auto& d : result.directions) {
-    if (d.clamp_distance.empty()) {
-      result.message = "bending test " + std::string(db::to_string(d.direction)) + " has no points";
-      result.errors_reason = result.message;
-      return finish();
-    }
+  if (const std::string empty = test_without_points(result.directions); !empty.empty()) {
+    result.message = result.errors_reason = empty;
+    return finish();
   }
 
-  // Displayed error: root-mean-square aspect-ratio residual over the mean measured ratio [%].
-  double r_sum = 0.0, n_res = 0.0;
-  for (const auto& d : result.directions)
-    for (double r : d.measured_aspect_ratio) {
-      r_sum += std::abs(r);
-      n_res += 1.0;
-    }
-  const double r_mean = std::max(r_sum / std::max(n_res, 1.0), 1e-12);
-  ProgressCallback progress(options.progress, start_time, [n_res, r_mean](double c) {
-    return 100.0 * std::sqrt(2.0 * c / std::max(n_res, 1.0)) / r_mean;
-  });
+  ProgressCallback progress(options.progress, start_time, displayed_error(result.directions));
   quiet_solver_warnings();
   const Guess guess = guess_from_data(fabric, inplane, options, &progress);
   result.start = guess.params;
@@ -340,21 +406,8 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
   for (int j = 0; j < 3; ++j) (measured[idx(j)] ? free : held).push_back(j);
   for (int j : free) result.identified.push_back(k_bending_names[j]);
 
-  // Bounds per free slot from the tests that measure it.
   std::vector<double> q, q_lo, q_hi;
-  for (int j : free) {
-    double lo = 0.0, hi = 0.0;
-    for (const auto& [dir, test] : fabric.bending_tests) {
-      const auto [a, b] = length_bounds(test, inplane, rho, options.gravity);
-      const double ka = ktheta_for_bending_length(a, rho, options.gravity);
-      const double kb = ktheta_for_bending_length(b, rho, options.gravity);
-      lo = lo == 0.0 ? ka : std::min(lo, ka);
-      hi = std::max(hi, kb);
-    }
-    q_lo.push_back(std::log(lo));
-    q_hi.push_back(std::log(hi));
-    q.push_back(std::clamp(std::log(result.start.ktheta[idx(j)]), q_lo.back(), q_hi.back()));
-  }
+  search_box(fabric, inplane, rho, options, free, result.start, q, q_lo, q_hi);
 
   std::vector<PearLoopWarmStart> warm(scenes.size());
   auto* cost = new LoopResiduals(scenes, result.directions, warm, free, held, inplane, std::max(1, options.threads),
@@ -388,38 +441,9 @@ BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inpl
     for (const auto& run : cost->last_runs())
       if (!run.ok && !run.message.empty()) result.message = "final evaluation failed: " + run.message;
   }
-  for (int h : held) {
-    result.not_identified.push_back(std::string(k_bending_names[h]) + ": no " +
-                                    std::string(db::to_string(static_cast<db::Direction>(h))) +
-                                    " bending test (held at the geometric mean of the fitted k_theta: " +
-                                    numerics::format_number(result.params.ktheta[idx(h)], 4) + " N*m)");
-  }
-  for (std::size_t j = 0; j < free.size(); ++j)
-    result.bounds[k_bending_names[free[j]]] = {std::exp(q_lo[j]), std::exp(q_hi[j])};
-  for (std::size_t j = 0; j < free.size(); ++j) {
-    if (q[j] - q_lo[j] < 1e-3 || q_hi[j] - q[j] < 1e-3) result.at_bounds.push_back(k_bending_names[free[j]]);
-  }
-  if (!result.at_bounds.empty()) {
-    result.message += " (on a search bound: the measured aspect ratios lie outside what the model reaches"
-                      " between a hanging hairpin and a weightless elastica)";
-  }
-  if (final_ok) {
-    for (const auto& d : result.directions) {
-      auto& m = result.max_curvature[d.parameter];
-      m = std::max(m.value_or(0.0), d.max_curvature);
-    }
-  }
-
-  if (final_ok) {
-    result.effects = cost->effects();
-    results::ShellErrorSum error;
-    for (const auto& d : result.directions) error.add(d.measured_aspect_ratio, d.simulated_aspect_ratio);
-    result.bending_pct = error.pct();
-  } else {
-    // The curves belong to the last point that simulated (some directions may be older still).
-    for (auto& d : result.directions) d.simulated_aspect_ratio.clear();
-    result.errors_reason = result.message;
-  }
+  report_held_and_bounds(result, free, held, q, q_lo, q_hi);
+  if (final_ok) result.effects = cost->effects();
+  record_errors(result, final_ok);
   return finish();
 }
 

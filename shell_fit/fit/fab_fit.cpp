@@ -182,6 +182,23 @@ FabTestError bend_error(const BendCase& c, const InplaneParams& inplane, double 
   return e;
 }
 
+// Each test's errors at the fit's k_θ, and the force error over every test whose loops settled.
+void record_errors_at_fit(FabBendFit& fit, const std::vector<BendCase>& cases, const InplaneParams& inplane) {
+  double diff = 0.0, size = 0.0;
+  int n = 0;
+  for (const auto& c : cases) {
+    const FabTestError e = bend_error(c, inplane, fit.ktheta);
+    fit.tests.push_back(e);
+    fit.effects = c.effects;
+    if (!e.converged) continue;
+    diff += e.mean_abs_error * e.samples;
+    for (const auto& s : c.samples) size += std::abs(s.force - e.offset);
+    n += e.samples;
+  }
+  fit.force_pct = size > 0.0 ? 100.0 * diff / size : std::numeric_limits<double>::quiet_NaN();
+  fit.mean_abs_error = n > 0 ? diff / n : 0.0;
+}
+
 }  // namespace
 
 FabTestError predict_fab_bend(const db::FabTest& test, db::Direction dir, const ShellParams& params,
@@ -272,20 +289,7 @@ FabBendFit fit_fab_bends(const std::vector<const db::FabTest*>& tests, db::Direc
   if (!std::isfinite(best_value)) fit.message = "no k_θ in the search range gave every loop an equilibrium: " + failure;
   else if (scan_best) fit.message = "the local search ended above the scan's best point: k_θ is that point, to a scan step";
   else if (!fit.converged) fit.message = "k_θ not settled within " + std::to_string(options.max_evaluations) + " evaluations";
-  // The errors at the fit.
-  double diff = 0.0, size = 0.0;
-  int n = 0;
-  for (const auto& c : cases) {
-    const FabTestError e = bend_error(c, inplane, fit.ktheta);
-    fit.tests.push_back(e);
-    fit.effects = c.effects;
-    if (!e.converged) continue;
-    diff += e.mean_abs_error * e.samples;
-    for (const auto& s : c.samples) size += std::abs(s.force - e.offset);
-    n += e.samples;
-  }
-  fit.force_pct = size > 0.0 ? 100.0 * diff / size : std::numeric_limits<double>::quiet_NaN();
-  fit.mean_abs_error = n > 0 ? diff / n : 0.0;
+  record_errors_at_fit(fit, cases, inplane);
   fit.seconds = numerics::seconds_since(start);
   return fit;
 }

@@ -93,6 +93,58 @@ std::string simulate_bending_csv(const ShellParams& params, const PearLoopSetup&
   return csv.str();
 }
 
+namespace {
+
+// fabric.yaml with every stretch test's line carrying the gauge the options give.
+std::string with_gauge(const std::string& yaml, const SyntheticShellOptions& o) {
+  std::string gauge = ", gauge: {";
+  if (o.gauge_length) gauge += "length_mm: " + format_g(*o.gauge_length * 1e3, 10);
+  if (o.gauge_length && o.gauge_width) gauge += ", ";
+  if (o.gauge_width) gauge += "width_mm: " + format_g(*o.gauge_width * 1e3, 10);
+  gauge += "}}";
+  std::string out;
+  std::istringstream in(yaml);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("  ", 0) == 0 && line.find("{file: stretch_") != std::string::npos) line.replace(line.size() - 1, 1, gauge);
+    out += line + "\n";
+  }
+  return out;
+}
+
+// The synthetic fabric's fabric.yaml: what made it, its tests (`tests` and `bending`: the lines
+// under stretch_tests and bending_tests) and the ground truth.
+std::string synthetic_fabric_yaml(const SyntheticShellOptions& o, const std::string& tests, const std::string& bending) {
+  const auto& p = o.params.inplane;
+  std::ostringstream yaml;
+  yaml << "# Synthetic fabric written by yarnfit synth shell: curves simulated from ground_truth.\n"
+       << "id: " << o.id << "\nfamily: " << o.family << "\n"
+       << "description: \"Simulated clamped stretch " << (o.bending_directions.empty() ? "" : "and pear-loop ")
+       << "tests (mesh " << format_g(o.target_edge * 1e3) << " mm, " << o.refinements << " refinements"
+       << (o.bending_directions.empty() ? std::string()
+                                        : ", pear loop " + format_g(o.bending_target_edge * 1e3) + " mm, " +
+                                              std::to_string(o.bending_refinements) + " refinements")
+       << ", noise " << format_g(100 * o.noise) << " %)\"\n";
+  if (!o.bending_directions.empty()) yaml << "areal_density_gsm: " << format_g(o.areal_density * 1e3, 10) << "\n";
+  yaml << "yarns:\n  - material: synthetic\n    denier: 100\n    mass_fraction: 1.0\n"
+       << "swatch: {length_mm: " << format_g(o.length * 1e3, 10) << ", width_mm: " << format_g(o.width * 1e3, 10) << "}\n"
+       << "stretch_tests:\n";
+  std::string text = yaml.str() + tests;
+  if (o.gauge_length || o.gauge_width) text = with_gauge(text, o);
+  if (!o.bending_directions.empty()) text += "bending_tests:\n" + bending;
+  text += "ground_truth: {kxx: " + format_g(p.kxx, 12) + ", kxy: " + format_g(p.kxy, 12) + ", kyy: " +
+          format_g(p.kyy, 12) + ", kss: " + format_g(p.kss, 12) + ", kn1: " + format_g(p.kn1, 12) +
+          ", kn2: " + format_g(p.kn2, 12);
+  if (!o.bending_directions.empty()) {
+    const auto& k = o.params.bending.ktheta;
+    text += ", ktheta_weft: " + format_g(k[0], 12) + ", ktheta_bias: " + format_g(k[1], 12) +
+            ", ktheta_warp: " + format_g(k[2], 12);
+  }
+  text += "}\n";
+  return text;
+}
+
+}  // namespace
+
 void write_synthetic_shell_fabric(const SyntheticShellOptions& o, const fs::path& folder, bool overwrite) {
   if (fs::exists(folder / "fabric.yaml") && !overwrite)
     throw std::runtime_error((folder / "fabric.yaml").string() + ": exists; pass --force to replace it");
@@ -136,47 +188,7 @@ void write_synthetic_shell_fabric(const SyntheticShellOptions& o, const fs::path
     bending << "  " << db::to_string(dir) << ": {file: " << name << "}\n";
   }
 
-  const auto& p = o.params.inplane;
-  std::ostringstream yaml;
-  yaml << "# Synthetic fabric written by yarnfit synth shell: curves simulated from ground_truth.\n"
-       << "id: " << o.id << "\nfamily: " << o.family << "\n"
-       << "description: \"Simulated clamped stretch " << (o.bending_directions.empty() ? "" : "and pear-loop ")
-       << "tests (mesh " << format_g(o.target_edge * 1e3) << " mm, " << o.refinements << " refinements"
-       << (o.bending_directions.empty() ? std::string()
-                                        : ", pear loop " + format_g(o.bending_target_edge * 1e3) + " mm, " +
-                                              std::to_string(o.bending_refinements) + " refinements")
-       << ", noise " << format_g(100 * o.noise) << " %)\"\n";
-  if (!o.bending_directions.empty()) yaml << "areal_density_gsm: " << format_g(o.areal_density * 1e3, 10) << "\n";
-  yaml << "yarns:\n  - material: synthetic\n    denier: 100\n    mass_fraction: 1.0\n"
-       << "swatch: {length_mm: " << format_g(o.length * 1e3, 10) << ", width_mm: " << format_g(o.width * 1e3, 10) << "}\n"
-       << "stretch_tests:\n";
-  std::string text = yaml.str() + tests.str();
-  if (o.gauge_length || o.gauge_width) {
-    // Every test carries the gauge: rewrite each line with it.
-    std::string gauge = ", gauge: {";
-    if (o.gauge_length) gauge += "length_mm: " + format_g(*o.gauge_length * 1e3, 10);
-    if (o.gauge_length && o.gauge_width) gauge += ", ";
-    if (o.gauge_width) gauge += "width_mm: " + format_g(*o.gauge_width * 1e3, 10);
-    gauge += "}}";
-    std::string out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) {
-      if (line.rfind("  ", 0) == 0 && line.find("{file: stretch_") != std::string::npos) line.replace(line.size() - 1, 1, gauge);
-      out += line + "\n";
-    }
-    text = out;
-  }
-  if (!o.bending_directions.empty()) text += "bending_tests:\n" + bending.str();
-  text += "ground_truth: {kxx: " + format_g(p.kxx, 12) + ", kxy: " + format_g(p.kxy, 12) + ", kyy: " +
-          format_g(p.kyy, 12) + ", kss: " + format_g(p.kss, 12) + ", kn1: " + format_g(p.kn1, 12) +
-          ", kn2: " + format_g(p.kn2, 12);
-  if (!o.bending_directions.empty()) {
-    const auto& k = o.params.bending.ktheta;
-    text += ", ktheta_weft: " + format_g(k[0], 12) + ", ktheta_bias: " + format_g(k[1], 12) +
-            ", ktheta_warp: " + format_g(k[2], 12);
-  }
-  text += "}\n";
-  db::write_text_file_atomically(folder / "fabric.yaml", text);
+  db::write_text_file_atomically(folder / "fabric.yaml", synthetic_fabric_yaml(o, tests.str(), bending.str()));
 }
 
 }  // namespace yarnfit::shell

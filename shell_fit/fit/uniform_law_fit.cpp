@@ -181,6 +181,53 @@ double mean_of(const std::vector<double>& v) {
   return n > 0 ? sum / n : k_nan;
 }
 
+// Bending: Δσ_κ = 2 k_θ κ, least squares per direction; a slot without samples takes the mean
+// of those with. Returns each fitted direction's misfit (the yarn metric).
+std::vector<double> fit_bending_slopes(const std::vector<db::DirectionTargets>& samples,
+                                       std::array<double, 3>& ktheta_out) {
+  std::vector<double> misfit;
+  std::array<std::optional<double>, 3> ktheta;
+  for (const auto& t : samples) {
+    if (t.bending.size() < 2) continue;
+    double num = 0.0, den = 0.0;
+    for (const auto& b : t.bending) num += b.stress * b.curvature, den += 2.0 * b.curvature * b.curvature;
+    if (!(den > 0.0)) continue;
+    const double k = num / den;
+    ktheta[static_cast<std::size_t>(t.direction)] = k;
+    std::vector<double> sim, ref;
+    for (const auto& b : t.bending) sim.push_back(2.0 * k * b.curvature), ref.push_back(b.stress);
+    misfit.push_back(yarn_metric(sim, ref));
+  }
+  double known = 0.0;
+  int n_known = 0;
+  for (const auto& k : ktheta)
+    if (k) known += *k, ++n_known;
+  for (std::size_t i = 0; i < 3; ++i)
+    ktheta_out[i] = ktheta[i] ? *ktheta[i] : n_known > 0 ? known / n_known : 0.0;
+  return misfit;
+}
+
+// The stiffening law's starts: the thesis fit's with a lock-up growth a tenth of the stiffness
+// it adds to, rate 5 and no lateral share, and, when given, the start as it is.
+std::vector<Values> lockup_starts(const Values& thesis, const std::optional<InplaneParams>& start, bool bias) {
+  std::vector<Values> starts;
+  Values from_thesis = thesis;
+  from_thesis[6] = 0.1 * from_thesis[0], from_thesis[7] = 5.0;
+  from_thesis[8] = 0.1 * from_thesis[2], from_thesis[9] = 5.0;
+  from_thesis[10] = bias ? 0.1 * from_thesis[3] : 0.0, from_thesis[11] = bias ? 5.0 : 0.0;
+  from_thesis[12] = from_thesis[13] = 0.0;
+  starts.push_back(from_thesis);
+  if (start) {
+    Values given = to_array(*start);
+    // A law without lock-up (or a thesis fit) gets the same small growth to start from.
+    for (const int k : {6, 8, 10})
+      if (!(given[static_cast<std::size_t>(k)] > 0.0)) given[static_cast<std::size_t>(k)] = from_thesis[static_cast<std::size_t>(k)], given[static_cast<std::size_t>(k + 1)] = 5.0;
+    if (!bias) given[10] = given[11] = 0.0;
+    starts.push_back(given);
+  }
+  return starts;
+}
+
 }  // namespace
 
 UniformLawFit fit_law_to_samples(const std::vector<db::DirectionTargets>& samples, InplaneModel model,
@@ -227,22 +274,7 @@ UniformLawFit fit_law_to_samples(const std::vector<db::DirectionTargets>& sample
     if (weft) all.insert(all.end(), {6, 7, 12});
     if (warp) all.insert(all.end(), {8, 9, 13});
     if (bias) all.insert(all.end(), {10, 11});
-    std::vector<Values> lockup_starts;
-    Values from_thesis = best.values;
-    from_thesis[6] = 0.1 * from_thesis[0], from_thesis[7] = 5.0;
-    from_thesis[8] = 0.1 * from_thesis[2], from_thesis[9] = 5.0;
-    from_thesis[10] = bias ? 0.1 * from_thesis[3] : 0.0, from_thesis[11] = bias ? 5.0 : 0.0;
-    from_thesis[12] = from_thesis[13] = 0.0;
-    lockup_starts.push_back(from_thesis);
-    if (start) {
-      Values given = to_array(*start);
-      // A law without lock-up (or a thesis fit) gets the same small growth to start from.
-      for (const int k : {6, 8, 10})
-        if (!(given[static_cast<std::size_t>(k)] > 0.0)) given[static_cast<std::size_t>(k)] = from_thesis[static_cast<std::size_t>(k)], given[static_cast<std::size_t>(k + 1)] = 5.0;
-      if (!bias) given[10] = given[11] = 0.0;
-      lockup_starts.push_back(given);
-    }
-    for (const Values& s : lockup_starts) {
+    for (const Values& s : lockup_starts(best.values, start, bias)) {
       const Run r = fit_from(dirs, s, all, 300);
       out.iterations += r.iterations;
       if (r.cost < best.cost) best = r;
@@ -269,26 +301,7 @@ UniformLawFit fit_law_to_samples(const std::vector<db::DirectionTargets>& sample
     stress_pct.push_back(yarn_metric(s_law, s_ref));
     compression_pct.push_back(yarn_metric(c_law, c_ref, 1e-3));
   }
-  // Bending: Δσ_κ = 2 k_θ κ, least squares per direction; a slot without samples takes the mean
-  // of those with.
-  std::array<std::optional<double>, 3> ktheta;
-  for (const auto& t : samples) {
-    if (t.bending.size() < 2) continue;
-    double num = 0.0, den = 0.0;
-    for (const auto& b : t.bending) num += b.stress * b.curvature, den += 2.0 * b.curvature * b.curvature;
-    if (!(den > 0.0)) continue;
-    const double k = num / den;
-    ktheta[static_cast<std::size_t>(t.direction)] = k;
-    std::vector<double> sim, ref;
-    for (const auto& b : t.bending) sim.push_back(2.0 * k * b.curvature), ref.push_back(b.stress);
-    bending_pct.push_back(yarn_metric(sim, ref));
-  }
-  double known = 0.0;
-  int n_known = 0;
-  for (const auto& k : ktheta)
-    if (k) known += *k, ++n_known;
-  for (std::size_t i = 0; i < 3; ++i)
-    out.params.bending.ktheta[i] = ktheta[i] ? *ktheta[i] : n_known > 0 ? known / n_known : 0.0;
+  bending_pct = fit_bending_slopes(samples, out.params.bending.ktheta);
   out.stress_misfit_pct = mean_of(stress_pct);
   out.compression_misfit_pct = mean_of(compression_pct);
   out.bending_misfit_pct = mean_of(bending_pct);

@@ -204,6 +204,50 @@ NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std:
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+
+// A solve's iteration and step counts, added to the continuation's.
+void add_counts(NewtonSummary& total, const NewtonSummary& s) {
+  total.iterations += s.iterations;
+  total.regularised_steps += s.regularised_steps;
+  total.projected_steps += s.projected_steps;
+}
+
+// The loads of a continuation step: the last two solved and the one to solve next.
+struct LoadStep {
+  double lambda;           // the last solution's
+  double previous_lambda;  // the one before it
+  double target;           // the next
+};
+
+// Where the solve at the target load starts: the last solution `current`, moved along the last
+// load step (from `previous`) when `extrapolate`, with the boundary at the target. A prediction
+// that overshoots into a state of infinite energy is dropped for the last solution.
+void predict_start(const TermList& terms, const FreeDofs& free_dofs, const SetBoundary& set_boundary, bool extrapolate,
+                   const LoadStep& step, const Eigen::VectorXd& current, const Eigen::VectorXd& previous,
+                   Eigen::VectorXd& candidate) {
+  candidate = current;
+  if (extrapolate) {
+    const double ratio = (step.target - step.lambda) / (step.lambda - step.previous_lambda);
+    for (const int d : free_dofs.dofs) candidate(d) += ratio * (current(d) - previous(d));
+  }
+  set_boundary(step.target, candidate);
+  if (extrapolate && !std::isfinite(total_energy(terms, candidate))) {
+    candidate = current;
+    set_boundary(step.target, candidate);
+  }
+}
+
+std::string stopped_message(double lambda, double target, const NewtonSummary& failed, double step, double min_step,
+                            int cut_backs) {
+  return "continuation stopped at lambda = " + numerics::format_number(lambda) + ": the load step to " +
+         numerics::format_number(target) + " failed (" + to_string(failed.status) + ": " + failed.message +
+         ") and the halved step " + numerics::format_number(step) + " fell below min_step " +
+         numerics::format_number(min_step) + " after " + std::to_string(cut_backs) + " cut-backs";
+}
+
+}  // namespace
+
 NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, const std::vector<int>& fixed_dofs,
                                  const SetBoundary& set_boundary, const ContinuationOptions& options) {
   const auto start = Clock::now();
@@ -215,11 +259,7 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
 
   NewtonSummary total;
   total.lambda = options.start_lambda;
-  const auto add_solve = [&](const NewtonSummary& s) {
-    total.iterations += s.iterations;
-    total.regularised_steps += s.regularised_steps;
-    total.projected_steps += s.projected_steps;
-  };
+  const auto add_solve = [&total](const NewtonSummary& s) { add_counts(total, s); };
   const auto finish = [&](const NewtonSummary& last, std::string message) {
     total.status = last.status;
     total.message = std::move(message);
@@ -251,19 +291,8 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
     double target = std::min(1.0, lambda + step);
     if (1.0 - target < 1e-12) target = 1.0;
 
-    candidate = current;
-    bool extrapolated = false;
-    if (options.extrapolate && have_previous) {
-      const double ratio = (target - lambda) / (lambda - previous_lambda);
-      for (const int d : free_dofs.dofs) candidate(d) += ratio * (current(d) - previous(d));
-      extrapolated = true;
-    }
-    set_boundary(target, candidate);
-    if (extrapolated && !std::isfinite(total_energy(terms, candidate))) {
-      // The prediction overshot into an invalid state: start from the last solution instead.
-      candidate = current;
-      set_boundary(target, candidate);
-    }
+    const LoadStep last{lambda, previous_lambda, target};
+    predict_start(terms, free_dofs, set_boundary, options.extrapolate && have_previous, last, current, previous, candidate);
 
     const NewtonSummary s = solve_static(terms, candidate, fixed_dofs, options.newton);
     add_solve(s);
@@ -288,20 +317,14 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
     step *= 0.5;
     if (step < options.min_step) {
       x = current;  // the last converged state
-      return finish(s, "continuation stopped at lambda = " + numerics::format_number(lambda) +
-                           ": the load step to " + numerics::format_number(target) + " failed (" +
-                           to_string(s.status) + ": " + s.message + ") and the halved step " +
-                           numerics::format_number(step) + " fell below min_step " +
-                           numerics::format_number(options.min_step) + " after " +
-                           std::to_string(total.cut_backs) + " cut-backs");
+      return finish(s, stopped_message(lambda, target, s, step, options.min_step, total.cut_backs));
     }
   }
 
   NewtonSummary done;
   done.status = NewtonStatus::converged;
-  return finish(done, "continuation reached lambda = 1 in " +
-                          std::to_string(total.continuation_steps) + " load steps (" +
-                          std::to_string(total.cut_backs) + " cut-backs), " +
+  return finish(done, "continuation reached lambda = 1 in " + std::to_string(total.continuation_steps) +
+                          " load steps (" + std::to_string(total.cut_backs) + " cut-backs), " +
                           std::to_string(total.iterations) + " Newton iterations");
 }
 

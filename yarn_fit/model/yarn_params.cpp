@@ -80,10 +80,11 @@ nlohmann::json to_json(const YarnParams& p) {
                         {"kc1", p.kc1}, {"ks2", p.ks2},     {"kc2", p.kc2}, {"R2", p.r2}};
 }
 
-std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
-                                           const std::optional<ParameterScales>& scales,
-                                           db::Problems& problems) {
-  const std::string label = file.string();
+namespace {
+
+// The file as a YAML mapping, or nothing with its problem.
+std::optional<YAML::Node> load_mapping(const std::filesystem::path& file, const std::string& label,
+                                       db::Problems& problems) {
   YAML::Node doc;
   try {
     doc = YAML::LoadFile(file.string());
@@ -99,22 +100,16 @@ std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
                  "expected a mapping of yarn parameters (ks1, eps_s, kb, R1, kc1, ks2, kc2, R2)");
     return std::nullopt;
   }
-  // A yarn_fit.json may be passed directly: read its `params`.
-  const YAML::Node root = doc["params"] && doc["params"].IsMap() ? doc["params"] : doc;
+  return doc;
+}
 
-  YarnParams p;
-  const std::array<std::pair<const char*, double*>, 8> keys{{{"ks1", &p.ks1},
-                                                             {"eps_s", &p.eps_s},
-                                                             {"kb", &p.kb},
-                                                             {"R1", &p.r1},
-                                                             {"kc1", &p.kc1},
-                                                             {"ks2", &p.ks2},
-                                                             {"kc2", &p.kc2},
-                                                             {"R2", &p.r2}}};
-  const std::size_t before = problems.size();
+using ParamKeys = std::array<std::pair<const char*, double*>, 8>;
+
+// The keys that are not parameters: a mapping or list as a key ("? [a, b]: 1", "{a: 1}: 2"), and
+// an unknown name in a parameter file (a yarn_fit.json's `params` sits among other keys).
+void report_stray_keys(const YAML::Node& root, bool parameter_file, const ParamKeys& keys,
+                       const std::string& label, db::Problems& problems) {
   for (const auto& entry : root) {
-    // A key may itself be a mapping or a list in YAML ("? [a, b]: 1", "{a: 1}: 2"); only a
-    // name can be a parameter.
     if (!entry.first.IsScalar()) {
       problems.add(label, entry.first.Mark().line + 1, "file", "a key must be a parameter name, not a mapping or list");
       continue;
@@ -122,38 +117,66 @@ std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
     const std::string key = entry.first.Scalar();
     bool known = false;
     for (const auto& [name, target] : keys) known = known || key == name;
-    if (!known && root == doc)
+    if (!known && parameter_file)
       problems.add(label, entry.first.Mark().line + 1, key,
                    "unknown key; expected ks1, eps_s, kb, R1, kc1, ks2, kc2, R2");
   }
-  for (const auto& [name, target] : keys) {
-    const YAML::Node node = root[name];
-    if (!node) {
-      const std::string key = name;
-      if (scales && key == "ks2") {
-        *target = scales->ks2;
-      } else if (scales && key == "kc2") {
-        *target = scales->kc2();
-      } else if (scales && key == "R2") {
-        *target = scales->r2();
-      } else {
-        problems.add(label, root.Mark().line + 1, name, "missing");
-      }
-      continue;
+}
+
+// One parameter: the file's finite number, or, where the file leaves ks2, kc2 or R2 out and
+// scales are given, the scales' value.
+void read_value(const YAML::Node& root, const std::string& name, const std::optional<ParameterScales>& scales,
+                double& target, const std::string& label, db::Problems& problems) {
+  const YAML::Node node = root[name];
+  if (!node) {
+    if (scales && name == "ks2") {
+      target = scales->ks2;
+    } else if (scales && name == "kc2") {
+      target = scales->kc2();
+    } else if (scales && name == "R2") {
+      target = scales->r2();
+    } else {
+      problems.add(label, root.Mark().line + 1, name, "missing");
     }
-    double value = 0.0;
-    try {
-      value = node.as<double>();
-    } catch (const YAML::Exception&) {
-      problems.add(label, node.Mark().line + 1, name, "expected a number in SI units");
-      continue;
-    }
-    if (!std::isfinite(value)) {
-      problems.add(label, node.Mark().line + 1, name, "must be finite");
-      continue;
-    }
-    *target = value;
+    return;
   }
+  double value = 0.0;
+  try {
+    value = node.as<double>();
+  } catch (const YAML::Exception&) {
+    problems.add(label, node.Mark().line + 1, name, "expected a number in SI units");
+    return;
+  }
+  if (!std::isfinite(value)) {
+    problems.add(label, node.Mark().line + 1, name, "must be finite");
+    return;
+  }
+  target = value;
+}
+
+}  // namespace
+
+std::optional<YarnParams> read_yarn_params(const std::filesystem::path& file,
+                                           const std::optional<ParameterScales>& scales,
+                                           db::Problems& problems) {
+  const std::string label = file.string();
+  const std::optional<YAML::Node> doc = load_mapping(file, label, problems);
+  if (!doc) return std::nullopt;
+  // A yarn_fit.json may be passed directly: read its `params`.
+  const YAML::Node root = (*doc)["params"] && (*doc)["params"].IsMap() ? (*doc)["params"] : *doc;
+
+  YarnParams p;
+  const ParamKeys keys{{{"ks1", &p.ks1},
+                        {"eps_s", &p.eps_s},
+                        {"kb", &p.kb},
+                        {"R1", &p.r1},
+                        {"kc1", &p.kc1},
+                        {"ks2", &p.ks2},
+                        {"kc2", &p.kc2},
+                        {"R2", &p.r2}}};
+  const std::size_t before = problems.size();
+  report_stray_keys(root, root == *doc, keys, label, problems);
+  for (const auto& [name, target] : keys) read_value(root, name, scales, *target, label, problems);
   if (problems.size() != before) return std::nullopt;
   if (const db::Problems invalid = p.problems(); !invalid.empty()) {
     for (const auto& q : invalid.items()) problems.add(label, root.Mark().line + 1, q.field, q.message);

@@ -104,6 +104,62 @@ void set_anchors_and_rest_curvatures(YarnTile& tile, const std::vector<std::arra
   }
 }
 
+// Walks the edges' cycles, each one periodic yarn: its edges in order, their arc length and
+// cell along the yarn, and where a yarn that crosses the period is pinned and slides.
+void walk_yarns(YarnTile& out, const std::vector<int>& out_edge) {
+  const int ne = static_cast<int>(out.edges.size());
+  std::vector<bool> seen(static_cast<std::size_t>(ne), false);
+  for (int start = 0; start < ne; ++start) {
+    if (seen[static_cast<std::size_t>(start)]) continue;
+    TileYarn yarn;
+    const int yarn_index = static_cast<int>(out.yarns.size());
+    Cell cell{0, 0};
+    double arc = 0.0;
+    int e = start;
+    while (!seen[static_cast<std::size_t>(e)]) {
+      seen[static_cast<std::size_t>(e)] = true;
+      TileEdgeElement& el = out.edges[static_cast<std::size_t>(e)];
+      el.yarn = yarn_index;
+      el.arc_start = arc;
+      el.cycle_cell = cell;
+      yarn.edges.push_back(e);
+      arc += el.rest_length;
+      cell = cell + el.cell1;
+      e = out_edge[static_cast<std::size_t>(el.v1)];
+      if (e < 0) throw std::invalid_argument("yarn tile: open yarn (vertex without outgoing edge)");
+    }
+    if (e != start) throw std::invalid_argument("yarn tile: edges do not form closed cycles");
+    yarn.net_offset = cell;
+    yarn.input_rest_length = arc;
+    if (cell.i != 0 || cell.j != 0) {
+      yarn.pinned_vertices = {out.edges[static_cast<std::size_t>(start)].v0};
+      const Eigen::Vector2d dir = out.lattice * Eigen::Vector2d(cell.i, cell.j);
+      yarn.slide_direction = Eigen::Vector3d(dir.x(), dir.y(), 0.0).normalized();
+    }
+    out.yarns.push_back(std::move(yarn));
+  }
+}
+
+// Each vertex's corner: the edges in and out and the neighbours they lead to.
+void link_corners(YarnTile& out, const std::vector<int>& in_edge, const std::vector<int>& out_edge) {
+  const int nv = static_cast<int>(in_edge.size());
+  out.corners.resize(static_cast<std::size_t>(nv));
+  for (int v = 0; v < nv; ++v) {
+    TileCorner& c = out.corners[static_cast<std::size_t>(v)];
+    const int ei = in_edge[static_cast<std::size_t>(v)];
+    const int eo = out_edge[static_cast<std::size_t>(v)];
+    const TileEdgeElement& in = out.edges[static_cast<std::size_t>(ei)];
+    const TileEdgeElement& o = out.edges[static_cast<std::size_t>(eo)];
+    c.vertex = v;
+    c.edge_in = ei;
+    c.edge_out = eo;
+    c.v_prev = in.v0;
+    c.cell_prev = -in.cell1;
+    c.v_next = o.v1;
+    c.cell_next = o.cell1;
+  }
+}
+
 }  // namespace
 
 YarnTile make_yarn_tile(const db::PeriodicTile& source) {
@@ -145,53 +201,8 @@ YarnTile make_yarn_tile(const db::PeriodicTile& source) {
   }
   out.input_rest_lengths = tile.rest_lengths;
 
-  // Walk the cycles: each is one periodic yarn.
-  std::vector<bool> seen(static_cast<std::size_t>(ne), false);
-  for (int start = 0; start < ne; ++start) {
-    if (seen[static_cast<std::size_t>(start)]) continue;
-    TileYarn yarn;
-    const int yarn_index = static_cast<int>(out.yarns.size());
-    Cell cell{0, 0};
-    double arc = 0.0;
-    int e = start;
-    while (!seen[static_cast<std::size_t>(e)]) {
-      seen[static_cast<std::size_t>(e)] = true;
-      TileEdgeElement& el = out.edges[static_cast<std::size_t>(e)];
-      el.yarn = yarn_index;
-      el.arc_start = arc;
-      el.cycle_cell = cell;
-      yarn.edges.push_back(e);
-      arc += el.rest_length;
-      cell = cell + el.cell1;
-      e = out_edge[static_cast<std::size_t>(el.v1)];
-      if (e < 0) throw std::invalid_argument("yarn tile: open yarn (vertex without outgoing edge)");
-    }
-    if (e != start) throw std::invalid_argument("yarn tile: edges do not form closed cycles");
-    yarn.net_offset = cell;
-    yarn.input_rest_length = arc;
-    if (cell.i != 0 || cell.j != 0) {
-      yarn.pinned_vertices = {out.edges[static_cast<std::size_t>(start)].v0};
-      const Eigen::Vector2d dir = out.lattice * Eigen::Vector2d(cell.i, cell.j);
-      yarn.slide_direction = Eigen::Vector3d(dir.x(), dir.y(), 0.0).normalized();
-    }
-    out.yarns.push_back(std::move(yarn));
-  }
-
-  out.corners.resize(static_cast<std::size_t>(nv));
-  for (int v = 0; v < nv; ++v) {
-    TileCorner& c = out.corners[static_cast<std::size_t>(v)];
-    const int ei = in_edge[static_cast<std::size_t>(v)];
-    const int eo = out_edge[static_cast<std::size_t>(v)];
-    const TileEdgeElement& in = out.edges[static_cast<std::size_t>(ei)];
-    const TileEdgeElement& o = out.edges[static_cast<std::size_t>(eo)];
-    c.vertex = v;
-    c.edge_in = ei;
-    c.edge_out = eo;
-    c.v_prev = in.v0;
-    c.cell_prev = -in.cell1;
-    c.v_next = o.v1;
-    c.cell_next = o.cell1;
-  }
+  walk_yarns(out, out_edge);
+  link_corners(out, in_edge, out_edge);
   set_anchors_and_rest_curvatures(out, tile.rest_curvatures);
   return out;
 }
