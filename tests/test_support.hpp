@@ -47,6 +47,12 @@ struct CommandResult {
 CommandResult run_cli(const std::string& args);
 // Quotes a path for the shell.
 std::string quoted(const fs::path& p);
+// The factor on the tests' own waits for a fit, as on their CTest timeouts
+// (YARNFIT_TEST_TIMEOUT_SCALE: a sanitised fit runs ten times slower).
+#ifndef YARNFIT_TEST_TIMEOUT_SCALE
+#define YARNFIT_TEST_TIMEOUT_SCALE 1
+#endif
+inline constexpr double k_wait_scale = YARNFIT_TEST_TIMEOUT_SCALE;
 // True when `part` occurs in `text` (for EXPECT_TRUE(contains(report, "line\n")) << report).
 inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

@@ -195,7 +195,7 @@ std::string ledger_stage(const fs::path& out, const std::string& fabric) {
 // swarm. False after `timeout` s or if `pid` ended.
 bool wait_inside_swarm(const fs::path& out, const std::string& fabric, pid_t pid, double timeout) {
   const fs::path folder = out / "fabrics" / fabric;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout * k_wait_scale);
   while (std::chrono::steady_clock::now() < until) {
     if (fs::exists(folder / "swarm_checkpoint.json") && ledger_stage(out, fabric) == "swarm" &&
         !fs::exists(folder / "yarn_fit.json"))

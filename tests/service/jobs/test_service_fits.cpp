@@ -99,7 +99,7 @@ json body_of(const httplib::Result& r) {
 
 // Polls the job until `pred` holds or `seconds` pass; returns the last state seen.
 json wait_for(httplib::Client& c, const std::string& id, const std::function<bool(const json&)>& pred, double seconds) {
-  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds * k_wait_scale);
   json j;
   while (std::chrono::steady_clock::now() < until) {
     j = body_of(c.Get("/api/v1/jobs/" + id));
