@@ -34,6 +34,7 @@ def missing(what):
 
 try:
     from selenium import webdriver
+    from selenium.common.exceptions import NoSuchElementException, StaleElementReferenceException
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
     from selenium.webdriver.support.ui import Select, WebDriverWait
@@ -144,7 +145,13 @@ def main():
 
         # The report opens in a window of its own.
         before = set(driver.window_handles)
-        driver.find_element(By.CSS_SELECTOR, job + " button.report").click()
+        def click_report(d):
+            try:
+                d.find_element(By.CSS_SELECTOR, job + " button.report").click()
+                return True
+            except (NoSuchElementException, StaleElementReferenceException):
+                return False  # the row was re-rendered between finding the button and the click
+        wait.until(click_report)
         wait.until(lambda d: len(d.window_handles) > len(before))
         driver.switch_to.window((set(driver.window_handles) - before).pop())
         wait.until(lambda d: "web_swatch" in d.page_source)
