@@ -259,7 +259,6 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
 
   NewtonSummary total;
   total.lambda = options.start_lambda;
-  const auto add_solve = [&total](const NewtonSummary& s) { add_counts(total, s); };
   const auto finish = [&](const NewtonSummary& last, std::string message) {
     total.status = last.status;
     total.message = std::move(message);
@@ -271,7 +270,7 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
   Eigen::VectorXd current = x;
   set_boundary(options.start_lambda, current);
   const NewtonSummary first = solve_static(terms, current, fixed_dofs, options.newton);
-  add_solve(first);
+  add_counts(total, first);
   total.energy = first.energy;
   total.residual = first.residual;
   if (!first.converged()) {
@@ -295,7 +294,7 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
     predict_start(terms, free_dofs, set_boundary, options.extrapolate && have_previous, last, current, previous, candidate);
 
     const NewtonSummary s = solve_static(terms, candidate, fixed_dofs, options.newton);
-    add_solve(s);
+    add_counts(total, s);
     if (s.converged()) {
       previous.swap(current);
       current.swap(candidate);
