@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "calibration/fit/fit_checkpoint.hpp"
+#include "yarn_fit/fit/fit_checkpoint.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "pipeline/plan.hpp"
 #include "pipeline/outputs.hpp"
@@ -54,7 +54,7 @@ JobOutcome run(const JobSpec& spec, const BatchOptions& options, const StageFn& 
   o.yarn.checkpoint = swarm_checkpoint_file(plan.out);
   o.tile_cache = generated_tiles_folder(options.out);
   o.yarn.resume = spec.resume && fs::exists(o.yarn.checkpoint);
-  if (!o.yarn.resume) calibration::remove_fit_checkpoint(o.yarn.checkpoint);
+  if (!o.yarn.resume) yarn::remove_fit_checkpoint(o.yarn.checkpoint);
   pipeline::PlanObserver observer;
   if (stage) {
     stage("shell");

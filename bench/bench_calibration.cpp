@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
-#include "calibration/fit/budget.hpp"
-#include "calibration/fit/yarn_calibration.hpp"
-#include "calibration/objective/jacobian_check.hpp"
-#include "calibration/synth/synthetic_yarn_fabric.hpp"
+#include "yarn_fit/fit/budget.hpp"
+#include "yarn_fit/fit/yarn_fit.hpp"
+#include "yarn_fit/fit/objective/jacobian_check.hpp"
+#include "yarn_fit/fit/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "numerics/util/clock.hpp"
 #include "numerics/util/format.hpp"
@@ -102,10 +102,10 @@ Problem make_problem(const std::string& shared, const std::string& tile_name, co
   p.truth.kb = 0.2 * p.scales.kb_base();
   p.truth.r1 = 0.9 * p.scales.r_est;
   p.truth.kc1 = kc1_in_base * p.scales.kc_base();
-  calibration::SyntheticYarnOptions so;
+  yarn::SyntheticYarnOptions so;
   so.max_stretch = max_stretch;
   so.points = static_cast<int>(std::lround(max_stretch / 0.01)) + 1;
-  const auto synth = calibration::simulate_yarn_targets(p.tile, p.truth, so);
+  const auto synth = yarn::simulate_yarn_targets(p.tile, p.truth, so);
   p.targets = synth.targets;
   std::printf("targets: %s, %s truth (ks1 %.4g ks2, eps_s %.4g, kc1 %.4g kc_base), weft/bias/warp 0-%.0f %%, "
               "%d points each, simulated in %.1f s\n",
@@ -114,7 +114,7 @@ Problem make_problem(const std::string& shared, const std::string& tile_name, co
   return p;
 }
 
-void print_fit(const char* label, const Problem& p, const calibration::YarnFitResult& r, bool compare) {
+void print_fit(const char* label, const Problem& p, const yarn::YarnFitResult& r, bool compare) {
   const auto& e = r.final;
   double comfort = 0, full = 0, comp = 0;
   for (const auto& d : e.directions) {
@@ -191,7 +191,7 @@ struct RecoveryRow {
   [[nodiscard]] bool met_woven() const { return ok && worst() <= 0.10 && std::abs(r1) <= 0.02 && comfort <= 1.0; }
 };
 
-RecoveryRow recovery_row(const std::string& label, const Problem& p, const calibration::YarnFitResult& r) {
+RecoveryRow recovery_row(const std::string& label, const Problem& p, const yarn::YarnFitResult& r) {
   RecoveryRow row;
   row.label = label;
   row.ok = r.ok;
@@ -227,7 +227,7 @@ void print_goal_table(const std::vector<RecoveryRow>& rows, int threads) {
               met_woven, rows.size(), fast, rows.size());
 }
 
-void print_recovery_goals(const Problem& p, const calibration::YarnFitResult& r, int threads) {
+void print_recovery_goals(const Problem& p, const yarn::YarnFitResult& r, int threads) {
   std::printf("goals (issue 17):\n");
   std::printf("  whole yarn fit %.0f s on %d thread(s)   goal <= 300 s   %s (moonshot <= 120 s: %s)\n", r.seconds_total,
               threads, r.seconds_total <= 300.0 ? "met" : "MISSED", r.seconds_total <= 120.0 ? "met" : "missed");
@@ -244,11 +244,11 @@ void print_recovery_goals(const Problem& p, const calibration::YarnFitResult& r,
               r.ok && worst10 <= 0.1 && r1 <= 0.01 && comfort <= 0.5 ? "met" : "MISSED");
 }
 
-calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s) {
+yarn::YarnFitResult run(const Problem& p, yarn::YarnFitSettings s) {
   s.progress = [](const numerics::Progress& e) {
     std::fprintf(stderr, "\r  %s %d/%d  best %.4g  %.0f s      ", e.stage.c_str(), e.step, e.steps, e.best, e.seconds);
   };
-  const auto r = calibration::fit_yarn_params(yarn::make_yarn_tile(p.tile), p.targets, p.scales, s);
+  const auto r = yarn::fit_yarn_params(yarn::make_yarn_tile(p.tile), p.targets, p.scales, s);
   std::fprintf(stderr, "\n");
   return r;
 }
@@ -257,11 +257,11 @@ calibration::YarnFitResult run(const Problem& p, calibration::YarnFitSettings s)
 // (the contact stage's: R1 and kc1 random, the rest at the middle; then all five random),
 // each evaluated serially on `samples` samples: the rest state's share, the sweeps', Newton
 // iterations and solves.
-void print_candidate_costs(const Problem& p, const calibration::YarnFitSettings& base, int count) {
-  const swarm::ParameterSpace space = calibration::yarn_parameter_space(p.scales, false);
-  calibration::ObjectiveOptions o = base.objective;
+void print_candidate_costs(const Problem& p, const yarn::YarnFitSettings& base, int count) {
+  const swarm::ParameterSpace space = yarn::yarn_parameter_space(p.scales, false);
+  yarn::ObjectiveOptions o = base.objective;
   o.samples = base.swarm_samples;
-  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
+  const yarn::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (const bool contact_only : {true, false}) {
@@ -272,7 +272,7 @@ void print_candidate_costs(const Problem& p, const calibration::YarnFitSettings&
       Eigen::VectorXd u = Eigen::VectorXd::Constant(space.dimension(), 0.5);
       for (int i = 0; i < space.dimension(); ++i)
         if (!contact_only || i >= 3) u[i] = (k + unit(rng)) / count;
-      const yarn::YarnParams q = calibration::params_from_point(space.from_unit(u), p.scales, false);
+      const yarn::YarnParams q = yarn::params_from_point(space.from_unit(u), p.scales, false);
       const auto r = objective.evaluate(q);
       total += r.seconds;
       rest += r.rest.seconds;
@@ -320,12 +320,12 @@ yarn::YarnParams off_truth(const yarn::YarnParams& truth, double f) {
 // g along the straight line (in log θ) from the truth off by `offset` (as `recovery
 // --start-offset`) to the truth: on each point's own rest state, and on the start's rest state
 // held. Shows whether g itself is smooth there and how far the held rest state models it.
-void print_line(const Problem& p, const calibration::YarnFitSettings& base, double offset, int points) {
-  calibration::ObjectiveOptions lo = base.objective;
+void print_line(const Problem& p, const yarn::YarnFitSettings& base, double offset, int points) {
+  yarn::ObjectiveOptions lo = base.objective;
   lo.samples = base.local_samples;
-  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, lo);
+  const yarn::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, lo);
   const yarn::YarnParams start = off_truth(p.truth, offset);
-  const calibration::RestState held = objective.rest_state(start);
+  const yarn::RestState held = objective.rest_state(start);
   std::printf("line from the truth off by %.0f %% (w = 0) to the truth (w = 1), log-linear; held: the start's rest state\n",
               100 * offset);
   for (int k = 0; k < points; ++k) {
@@ -336,7 +336,7 @@ void print_line(const Problem& p, const calibration::YarnFitSettings& base, doub
       q.*f = start.*f * std::pow(p.truth.*f / start.*f, w);
     const auto own = objective.evaluate(q);
     const auto at_held = objective.evaluate_at_rest(held, q, {});
-    const calibration::RestState rs = objective.rest_state(q);
+    const yarn::RestState rs = objective.rest_state(q);
     std::printf("  w %.3f  g own %.5g  g held %.5g  rest: %d its, stress %.3g %.3g, E %.4g %.4g %.4g, max dL %.4g, clamped %d, "
                 "energy %.6g, min distance %.5g\n",
                 w, own.ok ? own.value : std::nan(""), at_held.ok ? at_held.value : std::nan(""), rs.newton_iterations,
@@ -350,14 +350,14 @@ void print_line(const Problem& p, const calibration::YarnFitSettings& base, doub
 // Where one evaluation of the local step's objective spends its time (issue 49), at the truth
 // and 10 % off it: the rest relaxation (Newton iterations, seconds), then the samples' solves
 // (per sample, Newton iterations per solve, compression bands found flat, seconds).
-void print_evaluation_cost(const Problem& p, const calibration::YarnFitSettings& base) {
-  calibration::ObjectiveOptions lo = base.objective;
+void print_evaluation_cost(const Problem& p, const yarn::YarnFitSettings& base) {
+  yarn::ObjectiveOptions lo = base.objective;
   lo.samples = base.local_samples;
-  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, lo);
+  const yarn::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, lo);
   const yarn::YarnParams off = off_truth(p.truth, 0.1);
   for (const auto& [label, q] : {std::pair{"truth", p.truth}, std::pair{"10 % off", off}}) {
     const auto t0 = numerics::Clock::now();
-    const calibration::RestState rest = objective.rest_state(q);
+    const yarn::RestState rest = objective.rest_state(q);
     const double rest_seconds = numerics::seconds_since(t0);
     const auto r = objective.evaluate_at_rest(rest, q, {});
     const int samples = lo.samples * static_cast<int>(r.directions.size());
@@ -373,8 +373,8 @@ void print_evaluation_cost(const Problem& p, const calibration::YarnFitSettings&
 // How well cheaper objectives (fewer stretch samples, fewer rest-shape rounds) rank candidates
 // like the local step's (20 samples, 40 rounds) does: `count` candidates spread over the box with
 // R1 within ±5 % of the truth (what the staged search's second stage sees).
-void print_fidelity(const Problem& p, const calibration::YarnFitSettings& base, int count) {
-  const swarm::ParameterSpace space = calibration::yarn_parameter_space(p.scales, false);
+void print_fidelity(const Problem& p, const yarn::YarnFitSettings& base, int count) {
+  const swarm::ParameterSpace space = yarn::yarn_parameter_space(p.scales, false);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<yarn::YarnParams> candidates;
@@ -383,7 +383,7 @@ void print_fidelity(const Problem& p, const calibration::YarnFitSettings& base, 
     for (int i = 0; i < space.dimension(); ++i) u[i] = unit(rng);
     Eigen::VectorXd x = space.from_unit(u);
     x[3] = p.truth.r1 * (0.95 + 0.1 * unit(rng));
-    candidates.push_back(calibration::params_from_point(x, p.scales, false));
+    candidates.push_back(yarn::params_from_point(x, p.scales, false));
   }
   struct Fidelity {
     int samples, rounds;
@@ -392,10 +392,10 @@ void print_fidelity(const Problem& p, const calibration::YarnFitSettings& base, 
   std::vector<double> seconds;
   const std::vector<Fidelity> table{{20, 40}, {7, 40}, {4, 40}, {3, 40}, {4, 12}, {3, 12}, {3, 6}};
   for (const Fidelity& f : table) {
-    calibration::ObjectiveOptions o = base.objective;
+    yarn::ObjectiveOptions o = base.objective;
     o.samples = f.samples;
     o.rest.rounds = f.rounds;
-    const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
+    const yarn::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
     std::vector<double> g(candidates.size());
     const auto t0 = numerics::Clock::now();
 #pragma omp parallel for schedule(dynamic)
@@ -426,8 +426,8 @@ void print_fidelity(const Problem& p, const calibration::YarnFitSettings& base, 
 
 // The residual Jacobian of the local objective at the truth's rest state against central
 // differences (issue 33: ≤ 1e-4 relative in smooth cases): tight solves and a narrow band.
-void print_jacobian_check(const Problem& p, const calibration::YarnFitSettings& base) {
-  calibration::ObjectiveOptions o = base.objective;
+void print_jacobian_check(const Problem& p, const yarn::YarnFitSettings& base) {
+  yarn::ObjectiveOptions o = base.objective;
   o.samples = base.local_samples;
   o.compression_stress_fraction = 1e-8;
   o.compression.tolerance = 1e-10;
@@ -435,20 +435,20 @@ void print_jacobian_check(const Problem& p, const calibration::YarnFitSettings& 
   o.solve.stress_tolerance = 0.0;
   o.solve.max_iterations = 1000;
   o.solve.loose_tolerance = 1e-300;  // (0 would mean the objective's default: loose solves after 60 iterations)
-  const calibration::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
-  const calibration::RestState rest = objective.rest_state(p.truth);
+  const yarn::YarnObjective objective(yarn::make_yarn_tile(p.tile), p.targets, o);
+  const yarn::RestState rest = objective.rest_state(p.truth);
   if (!rest.ok) throw std::runtime_error("rest state: " + rest.message);
   const std::vector<yarn::YarnParam> wanted{yarn::YarnParam::ks1, yarn::YarnParam::eps_s, yarn::YarnParam::kb,
                                             yarn::YarnParam::r1, yarn::YarnParam::kc1};
-  calibration::AtRestOptions with_jacobian;
+  yarn::AtRestOptions with_jacobian;
   with_jacobian.wanted = wanted;
   with_jacobian.record_states = true;
-  const calibration::ObjectiveResult timed = objective.evaluate_at_rest(rest, p.truth, with_jacobian);
-  const calibration::ObjectiveResult plain = objective.evaluate_at_rest(rest, p.truth);
+  const yarn::ObjectiveResult timed = objective.evaluate_at_rest(rest, p.truth, with_jacobian);
+  const yarn::ObjectiveResult plain = objective.evaluate_at_rest(rest, p.truth);
   std::printf("jacobian check at the truth (%d samples per direction, tight solves): one evaluation %.2f s with the "
               "Jacobian, %.2f s without; %d compressions held\n",
               o.samples, timed.seconds, plain.seconds, timed.held_compressions);
-  const calibration::JacobianCheck c = calibration::check_residual_jacobian(objective, rest, p.truth, wanted);
+  const yarn::JacobianCheck c = yarn::check_residual_jacobian(objective, rest, p.truth, wanted);
   if (!c.ok) throw std::runtime_error("jacobian check: " + c.message);
   std::printf("  %-6s %14s %12s %10s\n", "param", "|dr/dlog p|", "rel. error", "best step");
   for (const auto& col : c.columns)
@@ -482,7 +482,7 @@ int main(int argc, char** argv) {
   }
   const std::string mode = argv[1];
   std::string shared = YARNFIT_SHARED_DIR;
-  calibration::YarnFitSettings base;
+  yarn::YarnFitSettings base;
   int setting_count = 4;  // `settings` mode: how many rows of the table to run
   int first_setting = 1;  // and from which (1-based)
   std::string truth = "toe";
@@ -503,14 +503,14 @@ int main(int argc, char** argv) {
     else if (key == "--candidates") candidate_count = std::atoi(value);
     else if (key == "--cases") cases = value;
     else if (key == "--budget") {
-      const auto b = calibration::budget_from_string(value);
+      const auto b = yarn::budget_from_string(value);
       if (!b) {
         std::fprintf(stderr, "bench_calibration: --budget: expected quick, default or thorough, got %s\n", value);
         return 2;
       }
-      calibration::apply_budget(*b, base);
+      yarn::apply_budget(*b, base);
     } else if (key == "--global") {
-      const auto g = calibration::global_method_from_string(value);
+      const auto g = yarn::global_method_from_string(value);
       if (!g) {
         std::fprintf(stderr, "bench_calibration: --global: expected staged or swarm, got %s\n", value);
         return 2;
@@ -524,7 +524,7 @@ int main(int argc, char** argv) {
     else if (key == "--r1-window") base.staged.r1_window = std::atof(value);
     else if (key == "--root-correction") base.objective.root_correction = std::atoi(value) != 0;
     else if (key == "--local-method" || key == "--local") {
-      const auto m = calibration::local_method_from_string(value);
+      const auto m = yarn::local_method_from_string(value);
       if (!m) {
         std::fprintf(stderr, "bench_calibration: --local-method: expected implicit-filtering or cobyla, got %s\n", value);
         return 2;
@@ -554,9 +554,9 @@ int main(int argc, char** argv) {
         std::string case_truth = f[1];  // KS1/EPS_S[/KC1]: '/' for the ',' of --truth
         std::replace(case_truth.begin(), case_truth.end(), '/', ',');
         const Problem q = make_problem(shared, f[0], case_truth, max_stretch);
-        calibration::YarnFitSettings s = base;
+        yarn::YarnFitSettings s = base;
         if (f.size() > 2) s.seed = std::stoull(f[2]);
-        const calibration::YarnFitResult r = run(q, s);
+        const yarn::YarnFitResult r = run(q, s);
         print_fit(item.c_str(), q, r, true);
         rows.push_back(recovery_row(item, q, r));
         std::fflush(stdout);
@@ -569,13 +569,13 @@ int main(int argc, char** argv) {
       std::printf("settings: %d particles x %d iterations, %d samples (swarm), %d (local), local step %s, at most %d "
                   "evaluations\n",
                   base.particles, base.iterations, base.swarm_samples, base.local_samples,
-                  calibration::to_string(base.local_method), base.local_evaluations);
+                  yarn::to_string(base.local_method), base.local_evaluations);
       // The local step's objective at the true parameters: what a perfect optimiser reaches.
-      calibration::ObjectiveOptions lo = base.objective;
+      yarn::ObjectiveOptions lo = base.objective;
       lo.samples = base.local_samples;
-      const calibration::YarnObjective local(yarn::make_yarn_tile(p.tile), p.targets, lo);
+      const yarn::YarnObjective local(yarn::make_yarn_tile(p.tile), p.targets, lo);
       const auto at_truth = local.evaluate(p.truth);
-      calibration::YarnFitResult truth_row;
+      yarn::YarnFitResult truth_row;
       truth_row.ok = at_truth.ok;
       truth_row.params = p.truth;
       truth_row.final = at_truth;
@@ -608,14 +608,14 @@ int main(int argc, char** argv) {
       }
       std::fflush(stdout);
       if (mode == "recovery") {
-        calibration::YarnFitSettings s = base;
+        yarn::YarnFitSettings s = base;
         if (start_offset > 0.0) {
           s.swarm = false;
           s.start = off_truth(p.truth, start_offset);
           std::printf("local step alone from the truth off by %.0f %% (R1 by %.1f %%)\n", 100 * start_offset,
                       10 * start_offset);
         }
-        const calibration::YarnFitResult r = run(p, s);
+        const yarn::YarnFitResult r = run(p, s);
         print_fit("recovery", p, r, true);
         print_recovery_goals(p, r, base.threads);
       }
@@ -631,7 +631,7 @@ int main(int argc, char** argv) {
       print_jacobian_check(p, base);
     } else if (mode == "ablations") {
       print_fit("full method", p, run(p, base), true);
-      calibration::YarnFitSettings s = base;
+      yarn::YarnFitSettings s = base;
       s.swarm = false;
       print_fit("no swarm", p, run(p, s), true);
       s = base;
@@ -641,9 +641,9 @@ int main(int argc, char** argv) {
       s.rest_shape = false;
       print_fit("no rest shape", p, run(p, s), true);
       s = base;
-      s.local_method = base.local_method == calibration::LocalMethod::cobyla ? calibration::LocalMethod::implicit_filtering
-                                                                             : calibration::LocalMethod::cobyla;
-      const std::string other = std::string("local step ") + calibration::to_string(s.local_method);
+      s.local_method = base.local_method == yarn::LocalMethod::cobyla ? yarn::LocalMethod::implicit_filtering
+                                                                             : yarn::LocalMethod::cobyla;
+      const std::string other = std::string("local step ") + yarn::to_string(s.local_method);
       print_fit(other.c_str(), p, run(p, s), true);
     } else if (mode == "settings") {
       struct Setting {
@@ -655,11 +655,11 @@ int main(int argc, char** argv) {
       const std::vector<Setting> table{{16, 4, 4}, {32, 6, 5}, {64, 5, 7}, {64, 10, 7}};
       std::printf("settings table: particles x iterations x samples (swarm); local step %s, %d samples, at most %d "
                   "evaluations\n",
-                  calibration::to_string(base.local_method), base.local_samples, base.local_evaluations);
+                  yarn::to_string(base.local_method), base.local_samples, base.local_evaluations);
       for (int row = std::max(first_setting, 1) - 1; row < std::min<int>(setting_count, static_cast<int>(table.size()));
            ++row) {
         const Setting& st = table[static_cast<std::size_t>(row)];
-        calibration::YarnFitSettings s = base;
+        yarn::YarnFitSettings s = base;
         s.particles = st.particles;
         s.iterations = st.iterations;
         s.swarm_samples = st.samples;

@@ -1,5 +1,5 @@
 // `yarnfit synth yarn`: uniform targets and a fabric record simulated from a periodic tile and
-// known yarn parameters (issue 5; calibration/synth/synthetic_yarn_fabric.hpp). `yarnfit synth
+// known yarn parameters (issue 5; yarn_fit/fit/synth/synthetic_yarn_fabric.hpp). `yarnfit synth
 // fabric`: a whole record whose clamped-stretch and pear-loop tests come from known yarn
 // parameters through their homogenised shell law (issue 48; pipeline/synthetic_fabric.hpp).
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "calibration/synth/synthetic_yarn_fabric.hpp"
+#include "yarn_fit/fit/synth/synthetic_yarn_fabric.hpp"
 #include "pipeline/synthetic_fabric.hpp"
 #include "cli/commands.hpp"
 #include "fabrics_db/text_util.hpp"
@@ -47,7 +47,7 @@ struct SynthYarnArgs {
 
 int run_synth_yarn(const SynthYarnArgs& a) {
   std::vector<std::string> problems;
-  calibration::SyntheticYarnOptions o;
+  yarn::SyntheticYarnOptions o;
   o.id = a.id;
   o.family = a.family;
   o.max_stretch = a.max_stretch;
@@ -65,7 +65,7 @@ int run_synth_yarn(const SynthYarnArgs& a) {
     return k_exit_invalid_input;
   }
   return exit_code_of_writing(a.out, [&] {
-    const auto r = calibration::write_synthetic_yarn_fabric(input->first, input->second, o, a.out, a.force);
+    const auto r = yarn::write_synthetic_yarn_fabric(input->first, input->second, o, a.out, a.force);
     if (!a.quiet) {
       std::cout << "wrote " << (std::filesystem::path(a.out) / "uniform_targets.csv").string() << " and fabric "
                 << a.id << " in " << (std::filesystem::path(a.out) / "fabric").string() << " ("

@@ -2,7 +2,6 @@
 
 #include <iostream>
 
-#include "calibration/fit/budget.hpp"
 #include "cli/commands.hpp"
 #include "cli/option_names.hpp"
 #include "cli/progress_display.hpp"
@@ -44,10 +43,10 @@ void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& a) {
                  "best distinct candidates rescored on the local samples) or swarm (the thesis's: --particles x "
                  "--iterations on --samples)")
       ->capture_default_str();
-  const calibration::YarnFitSettings d = [] {
-    calibration::YarnFitSettings s;
-    calibration::apply_budget(calibration::Budget::standard, s);
-    return s;
+  // The settings a request with no numbers of its own gets (the default budget's), for the help.
+  const yarn::YarnFitSettings d = [] {
+    db::Problems none;
+    return pipeline::pipeline_options(pipeline::FitRequest{}, none).yarn;
   }();
   cmd.add_option("--particles", a.particles, "Swarm particles of --global swarm (default " +
                                                  std::to_string(d.particles) + ")");

@@ -1,6 +1,6 @@
 #pragma once
 // The libraries name the fields of their option structs in their problems
-// (shell::ShellFitOptions, calibration::YarnFitSettings, pipeline::PipelineOptions: "mesh",
+// (shell::ShellFitOptions, yarn::YarnFitSettings, pipeline::PipelineOptions: "mesh",
 // "yarn.swarm_samples"); the command line shows the option the user typed instead.
 
 #include <string>

@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "calibration/fit/budget.hpp"
+#include "yarn_fit/fit/budget.hpp"
 #include "pipeline/plan.hpp"
 
 #ifndef YARNFIT_SOURCE_DIR
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   pipeline::PipelineOptions& options = plan.options;
   options.shell.threads = 2;
   // The smallest named search (budget.hpp), smaller still: the default budget is the one to trust.
-  calibration::apply_budget(calibration::Budget::quick, options.yarn);
+  yarn::apply_budget(yarn::Budget::quick, options.yarn);
   options.yarn.staged.contact = {4, 2, 3, 6};
   options.yarn.staged.all = {4, 2, 3, 6};
   options.yarn.local_samples = 4;

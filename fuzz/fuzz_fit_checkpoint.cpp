@@ -2,14 +2,14 @@
 // restart): read_fit_checkpoint throws std::runtime_error naming the file and the field.
 #include <stdexcept>
 
-#include "calibration/fit/fit_checkpoint.hpp"
+#include "yarn_fit/fit/fit_checkpoint.hpp"
 #include "fuzz/fuzz_support.hpp"
 
 YARNFIT_FUZZ_TARGET(fit_checkpoint) {
   using namespace yarnfit;
   const auto file = fuzz::input_file(fuzz::as_text(data, size), "fit_checkpoint.json");
   try {
-    (void)calibration::read_fit_checkpoint(file);
+    (void)yarn::read_fit_checkpoint(file);
   } catch (const std::runtime_error&) {
   }
   return 0;

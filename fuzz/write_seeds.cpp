@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "calibration/fit/fit_checkpoint.hpp"
+#include "yarn_fit/fit/fit_checkpoint.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/knit_tile.hpp"
@@ -189,13 +189,13 @@ int main(int argc, char** argv) {
 
   // Checkpoints, by their writers.
   {
-    calibration::FitCheckpoint c;
+    yarn::FitCheckpoint c;
     Eigen::VectorXd point(5);
     point << 12.0, 0.005, 1e-8, 2e-4, 9e5;
-    c.rescored = std::vector<calibration::GlobalCandidate>{{point, 0.25}, {point * 1.1, 0.5}};
-    c.local = {calibration::AlternationSummary{}, std::nullopt};
+    c.rescored = std::vector<yarn::GlobalCandidate>{{point, 0.25}, {point * 1.1, 0.5}};
+    c.local = {yarn::AlternationSummary{}, std::nullopt};
     fs::create_directories(out / "fit_checkpoint");
-    calibration::write_fit_checkpoint(out / "fit_checkpoint" / "two_starts.json", c);
+    yarn::write_fit_checkpoint(out / "fit_checkpoint" / "two_starts.json", c);
   }
   {
     const swarm::ParameterSpace space({{"ks1", 0.4, 400.0, true},

@@ -1,6 +1,6 @@
 #include "pipeline/fit_request.hpp"
 
-#include "calibration/fit/budget.hpp"
+#include "yarn_fit/fit/budget.hpp"
 
 namespace yarnfit::pipeline {
 
@@ -19,11 +19,11 @@ shell::ShellFitOptions shell_options(const FitRequest& r, db::Problems& problems
   return o;
 }
 
-calibration::YarnFitSettings yarn_settings(const FitRequest& r, db::Problems& problems) {
-  calibration::YarnFitSettings s;
-  if (const auto global = calibration::global_method_from_string(r.global_method)) s.global_method = *global;
+yarn::YarnFitSettings yarn_settings(const FitRequest& r, db::Problems& problems) {
+  yarn::YarnFitSettings s;
+  if (const auto global = yarn::global_method_from_string(r.global_method)) s.global_method = *global;
   else problems.add("", 0, "global_method", r.global_method + ": not a global method (staged or swarm)");
-  if (const auto budget = calibration::budget_from_string(r.budget)) calibration::apply_budget(*budget, s);
+  if (const auto budget = yarn::budget_from_string(r.budget)) yarn::apply_budget(*budget, s);
   else problems.add("", 0, "budget", r.budget + ": not a budget (quick, default or thorough)");
   if (r.particles) s.particles = *r.particles;
   if (r.iterations) s.iterations = *r.iterations;
@@ -31,7 +31,7 @@ calibration::YarnFitSettings yarn_settings(const FitRequest& r, db::Problems& pr
   if (r.local_samples) s.local_samples = *r.local_samples;
   if (r.local_evaluations) s.local_evaluations = *r.local_evaluations;
   if (r.starts) s.staged.starts = *r.starts;
-  if (const auto method = calibration::local_method_from_string(r.local_method)) s.local_method = *method;
+  if (const auto method = yarn::local_method_from_string(r.local_method)) s.local_method = *method;
   else
     problems.add("", 0, "local_method",
                  r.local_method + ": not a local method (gauss-newton, implicit-filtering or cobyla)");

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "calibration/fit/yarn_calibration.hpp"
+#include "yarn_fit/fit/yarn_fit.hpp"
 #include "fabrics_db/problems.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/plan.hpp"
@@ -44,15 +44,15 @@ struct FitRequest {
   std::string shell_model = shell::to_string(shell::ShellFitOptions{}.model);
   std::vector<std::string> fab_held_out = shell::k_default_fab_held_out;  // a FAB record's tests predicted, not fitted
 
-  // The yarn stage (calibration::YarnFitSettings): the budget's settings first
-  // (calibration/fit/budget.hpp), then every number given here.
+  // The yarn stage (yarn::YarnFitSettings): the budget's settings first
+  // (yarn_fit/fit/budget.hpp), then every number given here.
   std::string budget = "default";
-  std::string global_method = calibration::to_string(calibration::YarnFitSettings{}.global_method);
+  std::string global_method = yarn::to_string(yarn::YarnFitSettings{}.global_method);
   std::optional<int> particles, iterations, samples, local_samples, local_evaluations, starts;
-  std::string local_method = calibration::to_string(calibration::YarnFitSettings{}.local_method);
-  std::uint64_t seed = calibration::YarnFitSettings{}.seed;
-  int compression_nodes = calibration::YarnFitSettings{}.local_compression_nodes;
-  double compression_weight = calibration::ObjectiveOptions{}.compression_weight;
+  std::string local_method = yarn::to_string(yarn::YarnFitSettings{}.local_method);
+  std::uint64_t seed = yarn::YarnFitSettings{}.seed;
+  int compression_nodes = yarn::YarnFitSettings{}.local_compression_nodes;
+  double compression_weight = yarn::ObjectiveOptions{}.compression_weight;
   bool no_swarm = false, linear_stretch = false, no_rest_shape = false, relax_period = false, no_profile = false;
   bool no_shape = false;  // keep a generated tile's prior shape instead of fitting it
   std::filesystem::path targets;     // "yarn": the uniform targets to fit

@@ -11,7 +11,7 @@
 
 namespace yarnfit::pipeline {
 
-// `shape_fitted`: the tile came out of the shape search (calibration/problem/shape_search.hpp);
+// `shape_fitted`: the tile came out of the shape search (yarn_fit/fit/problem/shape_search.hpp);
 // `shape_held`: its period was held at a fitted aspect (false: the generated tile's own won).
 results::FittedTileRecord describe_fitted_tile(const db::Fabric& fabric, const db::PeriodicTile& tile, bool shape_fitted,
                                                bool shape_held);

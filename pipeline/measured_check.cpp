@@ -7,7 +7,7 @@
 
 namespace yarnfit::pipeline {
 
-std::vector<db::DirectionTargets> yarn_model_samples(const calibration::YarnFitResult& yarn) {
+std::vector<db::DirectionTargets> yarn_model_samples(const yarn::YarnFitResult& yarn) {
   std::vector<db::DirectionTargets> out;
   const auto entry = [&out](db::Direction d) -> db::DirectionTargets& {
     for (auto& t : out)
@@ -28,7 +28,7 @@ std::vector<db::DirectionTargets> yarn_model_samples(const calibration::YarnFitR
   return out;
 }
 
-results::MeasuredCheckRecord check_against_measurements(const db::Fabric& fabric, const calibration::YarnFitResult& yarn,
+results::MeasuredCheckRecord check_against_measurements(const db::Fabric& fabric, const yarn::YarnFitResult& yarn,
                                                         shell::InplaneModel model,
                                                         const std::optional<shell::InplaneParams>& start,
                                                         const shell::RecordErrorOptions& options) {

@@ -14,7 +14,7 @@
 
 #include <optional>
 
-#include "calibration/fit/yarn_calibration.hpp"
+#include "yarn_fit/fit/yarn_fit.hpp"
 #include "fabrics_db/records/fabric.hpp"
 #include "results/yarn_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
@@ -24,12 +24,12 @@ namespace yarnfit::pipeline {
 
 // The model's uniform responses as uniform targets (σ_s first Piola-Kirchhoff, as the targets
 // are), per direction of the final evaluation and of the bending check.
-[[nodiscard]] std::vector<db::DirectionTargets> yarn_model_samples(const calibration::YarnFitResult& yarn);
+[[nodiscard]] std::vector<db::DirectionTargets> yarn_model_samples(const yarn::YarnFitResult& yarn);
 
 // Steps 2 and 3 for a fit that ended ok. `start` (the shell stage's law) seeds the law's fit.
 // Never throws for numerical trouble: the record says what failed.
 [[nodiscard]] results::MeasuredCheckRecord check_against_measurements(const db::Fabric& fabric,
-                                                                      const calibration::YarnFitResult& yarn,
+                                                                      const yarn::YarnFitResult& yarn,
                                                                       shell::InplaneModel model,
                                                                       const std::optional<shell::InplaneParams>& start,
                                                                       const shell::RecordErrorOptions& options = {});

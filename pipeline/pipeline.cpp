@@ -44,7 +44,7 @@ db::Problems shell_option_problems(const PipelineOptions& options) {
 }
 
 db::Problems yarn_option_problems(const PipelineOptions& options) {
-  calibration::YarnFitSettings checked = options.yarn;
+  yarn::YarnFitSettings checked = options.yarn;
   if (!options.start.empty()) checked.swarm = false;  // a start skips the swarm: its settings do not matter
   db::Problems out;
   add_prefixed(out, checked.problems(), "yarn.");
@@ -76,12 +76,12 @@ results::ShellFitFile shell_fit_file(const PipelineResult& result) {
 
 results::YarnFitFile yarn_fit_file(const PipelineResult& result, const std::filesystem::path& targets_file) {
   if (!result.yarn || !result.yarn_problem) throw std::logic_error("yarn_fit_file: the yarn stage did not run");
-  results::YarnFitFile f = calibration::to_file(*result.yarn_problem, *result.yarn, result.yarn_settings);
+  results::YarnFitFile f = yarn::to_file(*result.yarn_problem, *result.yarn, result.yarn_settings);
   if (result.shell) f.targets = targets_file.string();
   f.measured = result.measured;
   f.tile = result.fitted_tile_record;
   if (result.shape) {
-    const calibration::ShapeFit& s = *result.shape;
+    const yarn::ShapeFit& s = *result.shape;
     results::ShapeRecord r;
     r.aspect = s.aspect;
     r.prior = s.prior;

@@ -1,7 +1,7 @@
 #pragma once
 // The options and the result of a fit of one fabric (SPEC §1, §5): the shell stage
 // (shell_fit/fit/shell_fit.hpp) fits the shell model and makes the uniform targets, which go
-// in memory to the yarn stage (calibration/problem/yarn_fit_problem.hpp). A fit runs one way,
+// in memory to the yarn stage (yarn_fit/fit/problem/yarn_fit_problem.hpp). A fit runs one way,
 // as a plan (pipeline/plan.hpp: check_plan, run_plan), whoever asks for it: the command line,
 // a batch job, the service, a library user.
 
@@ -13,9 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "calibration/fit/yarn_calibration.hpp"
-#include "calibration/problem/shape_search.hpp"
-#include "calibration/problem/yarn_fit_problem.hpp"
+#include "yarn_fit/fit/yarn_fit.hpp"
+#include "yarn_fit/fit/problem/shape_search.hpp"
+#include "yarn_fit/fit/problem/yarn_fit_problem.hpp"
 #include "exports/export_fit.hpp"
 #include "results/yarn_fit_file.hpp"
 #include "fabrics_db/problems.hpp"
@@ -38,11 +38,11 @@ enum class Stage { all, tile, shell, targets, yarn, exports, report };
 struct PipelineOptions {
   Stage stages = Stage::all;  // all, shell or yarn
   shell::ShellFitOptions shell;
-  calibration::YarnFitSettings yarn;
+  yarn::YarnFitSettings yarn;
   // The shape of a tile generated without a gauge, fitted with the yarn parameters.
-  calibration::ShapeSearchSettings shape;
+  yarn::ShapeSearchSettings shape;
   // Parameters the yarn fit's local step starts from (empty: none); the swarm is then skipped,
-  // whatever yarn.swarm says (calibration::settings_for).
+  // whatever yarn.swarm says (yarn::settings_for).
   std::filesystem::path start;
   // Stage::yarn: the uniform targets the yarn stage fits (uniform_targets.csv as the shell
   // stage writes it).
@@ -51,11 +51,11 @@ struct PipelineOptions {
   // exports/export_fit.hpp), beside its other outputs (exports::export_path).
   std::vector<exports::ExportFormat> exports;
   // Where tiles generated for records whose pattern names a knit are kept and looked up
-  // (calibration/problem/generated_pattern.hpp); required for such records.
+  // (yarn_fit/fit/problem/generated_pattern.hpp); required for such records.
   std::filesystem::path tile_cache;
 
   // Every invalid field, named "stages", "shell.<field>" or "yarn.<field>"
-  // (shell::ShellFitOptions, calibration::YarnFitSettings; the yarn settings only when the
+  // (shell::ShellFitOptions, yarn::YarnFitSettings; the yarn settings only when the
   // yarn stage runs); empty when both are usable.
   [[nodiscard]] db::Problems problems() const;
 };
@@ -84,18 +84,18 @@ struct PipelineResult {
   std::string fabric_id;
   std::filesystem::path fabric_folder;  // as given (summary.txt names it)
   std::optional<shell::ShellFitResult> shell;
-  std::optional<calibration::YarnFitProblem> yarn_problem;  // its targets are the shell stage's
-  std::optional<calibration::YarnFitResult> yarn;
+  std::optional<yarn::YarnFitProblem> yarn_problem;  // its targets are the shell stage's
+  std::optional<yarn::YarnFitResult> yarn;
   // The fitted yarn model against the record's measured curves (pipeline/measured_check.hpp),
   // when the yarn fit ended ok.
   std::optional<results::MeasuredCheckRecord> measured;
-  // The tile's shape, when it was fitted (calibration/problem/shape_search.hpp).
-  std::optional<calibration::ShapeFit> shape;
+  // The tile's shape, when it was fitted (yarn_fit/fit/problem/shape_search.hpp).
+  std::optional<yarn::ShapeFit> shape;
   // The tile the yarn model was fitted on (the shape's, the generated one, the record's), as
   // the output folder's tile.pyp holds it.
   std::optional<db::PeriodicTile> fitted_tile;
   std::optional<results::FittedTileRecord> fitted_tile_record;  // yarn_fit.json's `tile` (pipeline/fitted_tile.hpp)
-  calibration::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
+  yarn::YarnFitSettings yarn_settings;  // as given (the problem's start applied by the fit)
   Stage stages = Stage::all;
   double seconds_shell = 0.0;  // from the start (the record read) to the shell stage's end
   double seconds_yarn = 0.0;

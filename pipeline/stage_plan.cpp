@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "calibration/problem/generated_pattern.hpp"
+#include "yarn_fit/fit/problem/generated_pattern.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "pipeline/fitted_tile.hpp"
 #include "pipeline/measured_check.hpp"
@@ -16,11 +16,11 @@ using numerics::Clock;
 using numerics::seconds_since;
 
 // The yarn problem of the fabric (no targets yet) from the start file when there is one.
-std::optional<calibration::YarnFitProblem> yarn_problem(const db::Fabric& fabric, const PipelineOptions& options,
+std::optional<yarn::YarnFitProblem> yarn_problem(const db::Fabric& fabric, const PipelineOptions& options,
                                                         db::Problems& problems) {
-  auto problem = calibration::make_yarn_fit_problem(fabric, problems);
+  auto problem = yarn::make_yarn_fit_problem(fabric, problems);
   if (problem && !options.start.empty())
-    calibration::read_start(*problem, options.start, options.yarn.linear_stretch, problems);
+    yarn::read_start(*problem, options.start, options.yarn.linear_stretch, problems);
   return problem;
 }
 
@@ -37,12 +37,12 @@ class TileStage final : public PlanStage {
     if (!tile_to_generate(state.fabric)) return;
     if (state.options.tile_cache.empty())
       problems.add("", 0, "tile_cache", "the pattern is a knit to generate: say where generated tiles are kept");
-    calibration::check_yarn_stiffness(state.fabric, problems);
+    yarn::check_yarn_stiffness(state.fabric, problems);
   }
   bool run(PlanState& state) const override {
     if (!tile_to_generate(state.fabric)) return true;
     db::Problems problems;
-    if (calibration::make_generated_pattern(state.fabric, state.options.tile_cache, problems))
+    if (yarn::make_generated_pattern(state.fabric, state.options.tile_cache, problems))
       state.result.yarn_problem = yarn_problem(state.fabric, state.options, problems);
     if (problems.empty()) return true;
     refuse(state.result, std::move(problems));
@@ -100,14 +100,14 @@ class YarnStage final : public PlanStage {
     const auto yarn_start = Clock::now();
     PipelineResult& result = state.result;
     try {
-      if (calibration::shape_is_fitted(state.fabric, state.options.yarn, state.options.shape)) {
+      if (yarn::shape_is_fitted(state.fabric, state.options.yarn, state.options.shape)) {
         result.shape.emplace();
-        result.yarn = calibration::fit_yarn_with_shape(*result.yarn_problem, *state.fabric.pattern->knit,
+        result.yarn = yarn::fit_yarn_with_shape(*result.yarn_problem, *state.fabric.pattern->knit,
                                                        state.fabric.pattern->tile, state.options.yarn, state.options.shape,
                                                        *result.shape);
         result.fitted_tile = result.shape->tile;
       } else {
-        result.yarn = calibration::fit_yarn(*result.yarn_problem, state.options.yarn);
+        result.yarn = yarn::fit_yarn(*result.yarn_problem, state.options.yarn);
         if (state.fabric.pattern && state.fabric.pattern->has_tile()) result.fitted_tile = state.fabric.pattern->tile;
       }
       if (result.fitted_tile)

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "calibration/synth/synthetic_yarn_fabric.hpp"
+#include "yarn_fit/fit/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/util/clock.hpp"
 #include "shell_fit/fit/synthetic_fabric.hpp"
@@ -82,11 +82,11 @@ SyntheticFabricResult write_synthetic_fabric(const db::PeriodicTile& tile, const
   if (!(o.areal_density > 0.0)) throw std::invalid_argument("synth fabric: the areal density must be positive");
   SyntheticFabricResult out;
   // 1. The yarn model's uniform responses.
-  calibration::SyntheticYarnOptions yo;
+  yarn::SyntheticYarnOptions yo;
   yo.directions = o.stretch_directions;
   yo.max_stretch = o.max_stretch;
   yo.points = o.uniform_points;
-  out.samples = calibration::simulate_yarn_targets(tile, params, yo).targets;
+  out.samples = yarn::simulate_yarn_targets(tile, params, yo).targets;
   if (!o.bending_directions.empty()) add_bending_samples(tile, params, o, out.samples);
   // 2. Homogenised to the shell law.
   out.law = shell::fit_law_to_samples(out.samples, o.model);

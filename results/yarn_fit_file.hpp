@@ -1,7 +1,7 @@
 #pragma once
 // yarn_fit.json (SPEC §5 `yarnfit yarn fit`) as a type: what the yarn stage wrote, read back by
 // the reports, the summaries, batch and the CLI without knowing a JSON key. The yarn fit fills
-// it (calibration::to_file, calibration/problem/yarn_fit_problem.hpp); to_json writes the file
+// it (yarn::to_file, yarn_fit/fit/problem/yarn_fit_problem.hpp); to_json writes the file
 // and yarn_fit_file_from_json reads it, of this version or an older one.
 //
 // Schema versions:
@@ -247,7 +247,7 @@ struct MeasuredCheckRecord {
   double seconds = 0.0;
 };
 
-// The tile's shape fitted with the yarn parameters (issue 48; calibration/problem/shape_search.hpp):
+// The tile's shape fitted with the yarn parameters (issue 48; yarn_fit/fit/problem/shape_search.hpp):
 // yarn_fit.json's `shape`.
 struct ShapeTrialRecord {
   double aspect = 0.0;

@@ -23,7 +23,7 @@ $yarnfit db list "$db"
 $yarnfit db show "$db/stockinette_demo"
 
 echo
-# The yarn stage's search comes in named budgets (quick, default, thorough: calibration/fit/
+# The yarn stage's search comes in named budgets (quick, default, thorough: yarn_fit/fit/
 # budget.hpp). Every fabric is fitted with the quick budget, and the first one again with the
 # default budget; the report over both runs shows, in "What accuracy costs", what the larger
 # search bought and what it cost.

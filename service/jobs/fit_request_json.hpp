@@ -23,7 +23,7 @@
 namespace yarnfit::service {
 
 // The largest size of each search field a service request may ask for: two to ten times what
-// the thorough budget uses (calibration/fit/budget.cpp; the shell stage's default 1000
+// the thorough budget uses (yarn_fit/fit/budget.cpp; the shell stage's default 1000
 // iterations), and at least 1 each.
 struct RequestBound {
   const char* field;

@@ -37,7 +37,7 @@ using nlohmann::json;
 // tile's own rest shape (--no-rest-shape) halves each candidate's time; what is tested is the
 // batch around the fits, which the rest shape does not change. The thesis's single swarm with a
 // stencil local step keeps the fits this small (the staged fit's own resume is tested in
-// tests/calibration/test_staged_fit.cpp).
+// tests/yarn_fit/fit/test_staged_fit.cpp).
 const std::string k_small =
     " --global swarm --local implicit-filtering --particles 3 --iterations 2 --samples 2 --local-samples 3"
     " --local-evaluations 3 --no-profile --no-rest-shape --threads-per-job 1 --quiet";

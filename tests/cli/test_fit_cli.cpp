@@ -19,7 +19,7 @@ using nlohmann::json;
 
 
 // The thesis's single swarm and the stencil local step keep the arithmetic of evaluations simple
-// (the staged search and the Gauss–Newton step are tested in tests/calibration).
+// (the staged search and the Gauss–Newton step are tested in tests/yarn_fit/fit).
 const std::string k_tiny =
     " --global swarm --local implicit-filtering --particles 4 --iterations 2 --samples 3 --local-samples 4"
     " --local-evaluations 5 --threads 2 --quiet";

@@ -98,9 +98,9 @@ TEST(Pipeline, TheYarnStageFitsTheShellTargetsInMemoryAsFromTheirFile) {
   EXPECT_EQ(yarn_json["effects"], nlohmann::json::array({"stretch", "bending", "contact"}));
 
   // The same yarn fit on the targets read back from the file: the same numbers, bit for bit.
-  calibration::YarnFitProblem from_file = *r.yarn_problem;
+  yarn::YarnFitProblem from_file = *r.yarn_problem;
   from_file.targets = db::read_uniform_targets(dir / "out" / "uniform_targets.csv");
-  const calibration::YarnFitResult again = calibration::fit_yarn(from_file, tiny().yarn);
+  const yarn::YarnFitResult again = yarn::fit_yarn(from_file, tiny().yarn);
   ASSERT_TRUE(again.ok) << again.message;
   EXPECT_EQ(again.final.value, r.yarn->final.value);
   for (const double yarn::YarnParams::*field : {&yarn::YarnParams::ks1, &yarn::YarnParams::eps_s,

@@ -73,15 +73,15 @@ TEST(SyntheticFabric, AYarnModelsRecordIsValidCarriesItsTruthAndIsItsLaws) {
 // The yarn model's samples as uniform targets: σ_s from the objective's S (σ_s = S (1 + s)),
 // and the bending check's Δσ_κ.
 TEST(MeasuredCheck, TheYarnModelsSamplesAreItsFirstPiolaKirchhoffStressAndBending) {
-  calibration::YarnFitResult fit;
+  yarn::YarnFitResult fit;
   fit.ok = true;
-  calibration::DirectionError d;
+  yarn::DirectionError d;
   d.scale.direction = db::Direction::warp;
   d.stretch = {0.0, 0.1, 0.2};
   d.stress_sim = {0.0, 10.0, 30.0};
   d.compression_sim = {0.0, 0.02, 0.05};
   fit.final.directions.push_back(d);
-  calibration::BendingDirectionError b;
+  yarn::BendingDirectionError b;
   b.direction = db::Direction::warp;
   b.curvature = {0.0, 50.0};
   b.stress_sim = {0.0, 1e-3};
@@ -94,7 +94,7 @@ TEST(MeasuredCheck, TheYarnModelsSamplesAreItsFirstPiolaKirchhoffStressAndBendin
   ASSERT_EQ(samples[0].bending.size(), 2u);
   EXPECT_DOUBLE_EQ(samples[0].bending[1].stress, 1e-3);
   // A failed fit is not checked.
-  calibration::YarnFitResult failed;
+  yarn::YarnFitResult failed;
   const results::MeasuredCheckRecord none = check_against_measurements(db::Fabric{}, failed, shell::InplaneModel::thesis, std::nullopt);
   EXPECT_FALSE(none.ok);
   EXPECT_NE(none.message.find("failed"), std::string::npos);

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "batch/ledger.hpp"
-#include "calibration/fit/fit_checkpoint.hpp"
+#include "yarn_fit/fit/fit_checkpoint.hpp"
 #include "exports/export_fit.hpp"
 #include "pipeline/outputs.hpp"
 #include "reports/collection/fit_outputs.hpp"
@@ -144,14 +144,14 @@ TEST(WriteFaults, EveryExportStaysWholeAndTheRerunFinishes) {
 
 TEST(WriteFaults, TheFitsCheckpointsStayWholeAndTheRerunFinishes) {
   const ScratchDir dir("wf_checkpoints");
-  calibration::FitCheckpoint checkpoint;
+  yarn::FitCheckpoint checkpoint;
   Eigen::VectorXd point(5);
   point << 12.0, 0.005, 1e-8, 2e-4, 9e5;
-  checkpoint.rescored = std::vector<calibration::GlobalCandidate>{{point, 0.25}};
+  checkpoint.rescored = std::vector<yarn::GlobalCandidate>{{point, 0.25}};
   checkpoint.local = {std::nullopt};
   const fs::path fit_out = dir / "fit";
   fs::create_directories(fit_out);
-  expect_whole_through_faults([&] { calibration::write_fit_checkpoint(fit_out / "fit_checkpoint.json", checkpoint); },
+  expect_whole_through_faults([&] { yarn::write_fit_checkpoint(fit_out / "fit_checkpoint.json", checkpoint); },
                               fit_out, "fit_checkpoint.json");
 
   const swarm::ParameterSpace space({{"a", 0.0, 1.0, false}, {"b", 1.0, 10.0, true}});

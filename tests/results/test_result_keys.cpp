@@ -1,7 +1,7 @@
 // The result files' keys belong to results/: no code that reads or writes them elsewhere names
 // one as a string literal. The keys are those results::to_json writes (taken from the files it
 // writes, so a key added there is checked at once); the scan covers the modules that write or
-// read results (reports/, batch/, cli/, pipeline/, shell_fit/, yarn_fit/, calibration/, exports/, service/) and fails with the
+// read results (reports/, batch/, cli/, pipeline/, shell_fit/, yarn_fit/, exports/, service/) and fails with the
 // file, the line and the key.
 #include <gtest/gtest.h>
 
@@ -106,9 +106,9 @@ const std::vector<Exception> k_exceptions = {
 };
 
 // Files of another format that shares words with the result files: the yarn fit's checkpoint
-// (calibration/fit/fit_checkpoint.hpp: the alternation's rounds, the rescored starts) is the
+// (yarn_fit/fit/fit_checkpoint.hpp: the alternation's rounds, the rescored starts) is the
 // fit's own resumable state, read by nothing but the fit.
-const std::set<std::string> k_other_formats = {"calibration/fit/fit_checkpoint.cpp"};
+const std::set<std::string> k_other_formats = {"yarn_fit/fit/fit_checkpoint.cpp"};
 
 bool excepted(const std::string& file, const std::string& key) {
   if (k_other_formats.count(file)) return true;
@@ -129,7 +129,7 @@ TEST(ResultKeys, NoResultKeyIsAStringLiteralOutsideResults) {
   const fs::path root = YARNFIT_SOURCE_DIR;
   const std::regex literal("\"([A-Za-z_][A-Za-z0-9_]*)\"");
   std::vector<std::string> found;
-  for (const char* module : {"reports", "batch", "cli", "pipeline", "shell_fit", "yarn_fit", "calibration", "exports", "service"}) {
+  for (const char* module : {"reports", "batch", "cli", "pipeline", "shell_fit", "yarn_fit", "exports", "service"}) {
     for (const auto& entry : fs::recursive_directory_iterator(root / module)) {
       const std::string ext = entry.path().extension().string();
       if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp")) continue;

@@ -14,7 +14,7 @@
 // parameters θ. The read-outs are first derivatives of Ψ in F, so their parameter
 // derivatives are the mixed block d²Ψ/dF dθ; the F–F block is the homogenised tangent.
 // The rest shape (rest lengths, curvatures, period) is held: it is the fit's alternation that
-// updates it between local runs (calibration/fit).
+// updates it between local runs (yarn_fit/fit).
 //
 // Free compression (readouts.hpp) accepts the first c whose orthogonal stress f = ∂Ψ/∂c lies
 // within a band |f| ≤ τ; that c is piecewise constant in θ, and where Ψ is nearly flat in c the
