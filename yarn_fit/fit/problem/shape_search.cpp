@@ -76,58 +76,85 @@ bool shape_is_fitted(const db::Fabric& fabric, const YarnFitSettings& yarn, cons
   return shape.enabled && !thesis && fabric.pattern && fabric.pattern->knit && !fabric.pattern->knit->gauge;
 }
 
-YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const db::PeriodicTile& generated,
-                                  const YarnFitSettings& settings, const ShapeSearchSettings& shape, ShapeFit& out) {
-  const auto start = numerics::Clock::now();
-  const double length = knit.stitch_length;
-  const double wales = knit.chart.wales(), courses = knit.chart.courses();
-  // The generated tile's own period, as the mechanics relaxed it.
-  const double relaxed_w = generated.period_x / wales, relaxed_p = generated.period_y / courses;
-  // The prior: the registered constants, or that period.
-  double aspect0 = relaxed_p / relaxed_w, density = length * length / (relaxed_p * relaxed_w);
-  out.prior_source = knit.chart.name + ": the period its generated tile relaxes to (no registered constants)";
-  if (const auto prior = loop_shape_prior(knit.chart)) {
-    aspect0 = prior->aspect();
-    density = prior->courses_constant * prior->wales_constant;
-    out.prior_source = prior->source;
-  }
-  out.prior = aspect0;
-  out.lower = shape.lower * aspect0;
-  out.upper = shape.upper * aspect0;
+namespace {
 
-  YarnFitResult best;
-  double best_g = k_inf;
-  std::optional<db::PeriodicTile> best_tile;
-  const auto objective_of = [](const YarnFitResult& r) { return r.ok ? r.final.value : k_inf; };
-  const auto keep = [&](ShapeTrial& t, YarnFitResult r, const db::PeriodicTile& tile) {
+double objective_of(const YarnFitResult& r) { return r.ok ? r.final.value : k_inf; }
+
+// One search over a generated knit tile's course/wale aspect (fit_yarn_with_shape): the state
+// the trials share, and the steps in the order `run` takes them.
+class ShapeSearch {
+ public:
+  ShapeSearch(YarnFitProblem& problem, const db::KnitSpec& knit, const db::PeriodicTile& generated,
+              const YarnFitSettings& settings, const ShapeSearchSettings& shape, ShapeFit& out)
+      : m_start(numerics::Clock::now()),
+        m_problem(problem),
+        m_knit(knit),
+        m_generated(generated),
+        m_settings(settings),
+        m_shape(shape),
+        m_out(out),
+        m_length(knit.stitch_length),
+        // The generated tile's own period, as the mechanics relaxed it.
+        m_relaxed_w(generated.period_x / knit.chart.wales()),
+        m_relaxed_p(generated.period_y / knit.chart.courses()) {}
+
+  YarnFitResult run() {
+    set_prior();
+    fit_as_generated();
+    if (!m_best.ok) {
+      m_out.aspect = m_out.trials.front().aspect;
+      m_out.seconds = numerics::seconds_since(m_start);
+      return std::move(m_best);
+    }
+    prepare_held_trials();
+    walk_from_prior(held_trial(m_aspect0));
+    refine_by_parabola();
+    finish();
+    return std::move(m_best);
+  }
+
+ private:
+  // The prior: the registered constants, or the generated tile's relaxed period.
+  void set_prior() {
+    m_aspect0 = m_relaxed_p / m_relaxed_w;
+    m_density = m_length * m_length / (m_relaxed_p * m_relaxed_w);
+    m_out.prior_source = m_knit.chart.name + ": the period its generated tile relaxes to (no registered constants)";
+    if (const auto prior = loop_shape_prior(m_knit.chart)) {
+      m_aspect0 = prior->aspect();
+      m_density = prior->courses_constant * prior->wales_constant;
+      m_out.prior_source = prior->source;
+    }
+    m_out.prior = m_aspect0;
+    m_out.lower = m_shape.lower * m_aspect0;
+    m_out.upper = m_shape.upper * m_aspect0;
+  }
+
+  void keep(ShapeTrial& t, YarnFitResult r, const db::PeriodicTile& tile) {
     t.objective = objective_of(r);
     if (!r.ok) t.message = r.message;
-    if (t.objective < best_g) {
-      best_g = t.objective;
-      best = std::move(r);
-      best_tile = tile;
+    if (t.objective < m_best_g) {
+      m_best_g = t.objective;
+      m_best = std::move(r);
+      m_best_tile = tile;
     }
-  };
+  }
+
   // Trial 0: the tile as generated, its period the mechanics' and moved by the fit's period
   // steps, fitted in full: the fit without a shape of its own is always a candidate, so the
   // search never ends above its g.
-  {
+  void fit_as_generated() {
     const auto t0 = numerics::Clock::now();
     ShapeTrial t;
-    t.aspect = relaxed_p / relaxed_w;
+    t.aspect = m_relaxed_p / m_relaxed_w;
     t.full_fit = true;
     t.held = false;
-    t.r1 = knit.yarn_radius;
-    problem.tile = yarn::make_yarn_tile(generated);
-    keep(t, fit_yarn(problem, settings), generated);
+    t.r1 = m_knit.yarn_radius;
+    m_problem.tile = yarn::make_yarn_tile(m_generated);
+    keep(t, fit_yarn(m_problem, m_settings), m_generated);
     t.seconds = numerics::seconds_since(t0);
-    out.trials.push_back(t);
+    m_out.trials.push_back(t);
   }
-  if (!best.ok) {
-    out.aspect = out.trials.front().aspect;
-    out.seconds = numerics::seconds_since(start);
-    return best;
-  }
+
   // A held trial: the tile at `aspect` (its loops crossing 2R apart, R the knit's yarn radius:
   // only a differs between trials; each candidate's rest state resolves the contacts at its own
   // R1), its period held, fitted locally from the best parameters so far and, when the caller
@@ -140,95 +167,134 @@ YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& k
   // are a poor start when they come from the generated tile, whose relaxed period pushed them
   // to their bounds: the local step then stops in another basin at every aspect
   // (docs/calibration.md, "The tile's shape").
-  YarnFitSettings held = settings;
-  held.objective.rest.period_chord_steps = 0;
-  held.checkpoint.clear();
-  held.resume = false;
-  const std::optional<yarn::YarnParams> given_start = problem.start;
-  const auto trial = [&](double aspect) {
+  void prepare_held_trials() {
+    m_held = m_settings;
+    m_held.objective.rest.period_chord_steps = 0;
+    m_held.checkpoint.clear();
+    m_held.resume = false;
+    m_given_start = m_problem.start;
+  }
+
+  double held_trial(double aspect) {
     const auto t0 = numerics::Clock::now();
     ShapeTrial t;
     t.aspect = aspect;
-    t.r1 = knit.yarn_radius;
+    t.r1 = m_knit.yarn_radius;
     std::string why;
-    const auto tile = shaped_tile(knit, aspect, density, t.r1, problem.scales.ks2, why);
+    const auto tile = shaped_tile(m_knit, aspect, m_density, t.r1, m_problem.scales.ks2, why);
     if (!tile) {
       t.objective = k_inf;
       t.message = "tile: " + why;
     } else {
-      problem.tile = yarn::make_yarn_tile(*tile);
-      std::optional<YarnFitResult> fitted;
-      const auto fit_from = [&](yarn::YarnParams from) {
-        problem.start = from;
-        YarnFitResult r = fit_yarn(problem, held);
-        if (!fitted || objective_of(r) < objective_of(*fitted)) fitted = std::move(r);
-      };
-      yarn::YarnParams at_tile_radius = best.params;
-      at_tile_radius.r1 = t.r1;
-      fit_from(at_tile_radius);
-      if (!fitted->ok && best.params.r1 != t.r1) fit_from(best.params);
-      if (given_start) {
-        yarn::YarnParams from = *given_start;
-        from.r1 = t.r1;
-        fit_from(from);
-      }
-      keep(t, std::move(*fitted), *tile);
+      m_problem.tile = yarn::make_yarn_tile(*tile);
+      keep(t, held_fit(t.r1), *tile);
     }
     t.seconds = numerics::seconds_since(t0);
-    out.trials.push_back(t);
+    m_out.trials.push_back(t);
     return t.objective;
-  };
-  // The held prior, then steps away from it while the held trials' g falls (against the
-  // previous held trial, not the generated tile's fit: the held profile is what is searched,
-  // and a held tile that loses to the generated one at the prior may still win further out),
-  // first upwards, then (if the first step did not help) downwards.
-  const double at_prior = trial(aspect0);
-  for (const double direction : {1.0, -1.0}) {
-    double a = aspect0, previous = at_prior;
-    bool improved_once = false;
-    while (static_cast<int>(out.trials.size()) <= shape.max_trials) {
-      // A step past a bound stops at the bound, so that a minimum near it is still bracketed.
-      const double next = std::clamp(a * (1.0 + direction * shape.step), out.lower, out.upper);
-      if (std::abs(next / a - 1.0) < 1e-9) break;  // at the bound already
-      const double g = trial(next);
-      if (!(g < previous)) break;
-      improved_once = true;
-      a = next;
-      previous = g;
-    }
-    if (improved_once) break;  // the other side was worse at the first step
   }
-  // The parabola through the best held trial and its nearest held neighbours.
-  std::vector<ShapeTrial> sorted;
-  for (const auto& t : out.trials)
-    if (t.held) sorted.push_back(t);
-  std::sort(sorted.begin(), sorted.end(), [](const ShapeTrial& x, const ShapeTrial& y) { return x.aspect < y.aspect; });
-  const auto at = std::min_element(sorted.begin(), sorted.end(),
-                                   [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
-  out.range_lower = out.range_upper = k_nan;
-  if (!sorted.empty() && at != sorted.begin() && at + 1 != sorted.end() && std::isfinite((at - 1)->objective) &&
-      std::isfinite((at + 1)->objective)) {
+
+  // The best of the local fits on the problem's (held) tile from the starts held_trial names.
+  YarnFitResult held_fit(double r1) {
+    std::optional<YarnFitResult> fitted;
+    const auto fit_from = [&](yarn::YarnParams from) {
+      m_problem.start = from;
+      YarnFitResult r = fit_yarn(m_problem, m_held);
+      if (!fitted || objective_of(r) < objective_of(*fitted)) fitted = std::move(r);
+    };
+    yarn::YarnParams at_tile_radius = m_best.params;
+    at_tile_radius.r1 = r1;
+    fit_from(at_tile_radius);
+    if (!fitted->ok && m_best.params.r1 != r1) fit_from(m_best.params);
+    if (m_given_start) {
+      yarn::YarnParams from = *m_given_start;
+      from.r1 = r1;
+      fit_from(from);
+    }
+    return std::move(*fitted);
+  }
+
+  // Steps away from the held prior while the held trials' g falls (against the previous held
+  // trial, not the generated tile's fit: the held profile is what is searched, and a held tile
+  // that loses to the generated one at the prior may still win further out), first upwards,
+  // then (if the first step did not help) downwards.
+  void walk_from_prior(double at_prior) {
+    for (const double direction : {1.0, -1.0}) {
+      double a = m_aspect0, previous = at_prior;
+      bool improved_once = false;
+      while (static_cast<int>(m_out.trials.size()) <= m_shape.max_trials) {
+        // A step past a bound stops at the bound, so that a minimum near it is still bracketed.
+        const double next = std::clamp(a * (1.0 + direction * m_shape.step), m_out.lower, m_out.upper);
+        if (std::abs(next / a - 1.0) < 1e-9) break;  // at the bound already
+        const double g = held_trial(next);
+        if (!(g < previous)) break;
+        improved_once = true;
+        a = next;
+        previous = g;
+      }
+      if (improved_once) break;  // the other side was worse at the first step
+    }
+  }
+
+  // The parabola through the best held trial and its nearest held neighbours: the range where
+  // g stays within twice the best's, and one more trial at its vertex when that is new.
+  void refine_by_parabola() {
+    std::vector<ShapeTrial> sorted;
+    for (const auto& t : m_out.trials)
+      if (t.held) sorted.push_back(t);
+    std::sort(sorted.begin(), sorted.end(), [](const ShapeTrial& x, const ShapeTrial& y) { return x.aspect < y.aspect; });
+    const auto at = std::min_element(sorted.begin(), sorted.end(),
+                                     [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
+    m_out.range_lower = m_out.range_upper = k_nan;
+    if (sorted.empty() || at == sorted.begin() || at + 1 == sorted.end() || !std::isfinite((at - 1)->objective) ||
+        !std::isfinite((at + 1)->objective))
+      return;
     const Parabola p = parabola((at - 1)->aspect, (at - 1)->objective, at->aspect, at->objective, (at + 1)->aspect,
                                 (at + 1)->objective, at->objective);
-    out.range_lower = p.lower;
-    out.range_upper = p.upper;
+    m_out.range_lower = p.lower;
+    m_out.range_upper = p.upper;
     const bool new_point = std::isfinite(p.vertex) && std::abs(p.vertex / at->aspect - 1.0) > 0.01 &&
                            p.vertex > (at - 1)->aspect && p.vertex < (at + 1)->aspect;
-    if (new_point && static_cast<int>(out.trials.size()) <= shape.max_trials) trial(p.vertex);
+    if (new_point && static_cast<int>(m_out.trials.size()) <= m_shape.max_trials) held_trial(p.vertex);
   }
-  const auto winner = std::min_element(out.trials.begin(), out.trials.end(),
-                                       [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
-  out.aspect = winner->aspect;
-  out.held = winner->held;
-  out.wale_spacing = winner->held ? length / std::sqrt(density * out.aspect) : relaxed_w;
-  out.course_spacing = winner->held ? length * std::sqrt(out.aspect / density) : relaxed_p;
-  problem.start = given_start;
-  if (best_tile) {
-    out.tile = *best_tile;
-    problem.tile = yarn::make_yarn_tile(*best_tile);
+
+  // The winner's shape in the answer, and the problem left with its tile and the caller's start.
+  void finish() {
+    const auto winner = std::min_element(m_out.trials.begin(), m_out.trials.end(),
+                                         [](const ShapeTrial& x, const ShapeTrial& y) { return x.objective < y.objective; });
+    m_out.aspect = winner->aspect;
+    m_out.held = winner->held;
+    m_out.wale_spacing = winner->held ? m_length / std::sqrt(m_density * m_out.aspect) : m_relaxed_w;
+    m_out.course_spacing = winner->held ? m_length * std::sqrt(m_out.aspect / m_density) : m_relaxed_p;
+    m_problem.start = m_given_start;
+    if (m_best_tile) {
+      m_out.tile = *m_best_tile;
+      m_problem.tile = yarn::make_yarn_tile(*m_best_tile);
+    }
+    m_out.seconds = numerics::seconds_since(m_start);
   }
-  out.seconds = numerics::seconds_since(start);
-  return best;
+
+  const numerics::Clock::time_point m_start;
+  YarnFitProblem& m_problem;
+  const db::KnitSpec& m_knit;
+  const db::PeriodicTile& m_generated;
+  const YarnFitSettings& m_settings;
+  const ShapeSearchSettings& m_shape;
+  ShapeFit& m_out;
+  const double m_length, m_relaxed_w, m_relaxed_p;
+  double m_aspect0 = 0.0, m_density = 0.0;
+  YarnFitResult m_best;
+  double m_best_g = k_inf;
+  std::optional<db::PeriodicTile> m_best_tile;
+  YarnFitSettings m_held;
+  std::optional<yarn::YarnParams> m_given_start;
+};
+
+}  // namespace
+
+YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const db::PeriodicTile& generated,
+                                  const YarnFitSettings& settings, const ShapeSearchSettings& shape, ShapeFit& out) {
+  return ShapeSearch(problem, knit, generated, settings, shape, out).run();
 }
 
 }  // namespace yarnfit::yarn
