@@ -3,12 +3,11 @@
 // written as the strings "inf", "-inf" and "nan".
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
-#include "swarm/json_numbers.hpp"
+#include "swarm/checkpoint_json.hpp"
 #include "swarm/swarm_state.hpp"
 
 #include "numerics/util/whole_file.hpp"
@@ -19,8 +18,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr const char* kFormat = "yarnfit swarm checkpoint";
-constexpr int kVersion = 1;
+constexpr CheckpointKind k_swarm_checkpoint{"checkpoint", "yarnfit swarm checkpoint", 1};
 
 using swarm::json_columns;
 using swarm::json_number;
@@ -225,9 +223,8 @@ std::vector<FailedEvaluation> read_failures(const Reader& r, const json& j, int 
 
 void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& space, const SwarmState& state) {
   const SwarmSummary& s = state.summary;
-  const json doc = {
-      {"format", kFormat},
-      {"version", kVersion},
+  json doc = checkpoint_preamble(k_swarm_checkpoint);
+  doc.update({
       {"space", space_json(space)},
       {"settings", settings_json(state.settings)},
       {"iterations_done", state.iterations_done},
@@ -246,7 +243,7 @@ void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& s
         {"seconds", json_number(s.seconds)},
         {"history", history_json(s.history)},
         {"failures", failures_json(s.failures)}}},
-  };
+  });
   try {
     numerics::write_file_whole(path, doc.dump(1) + "\n");
   } catch (const std::runtime_error& e) {
@@ -256,20 +253,7 @@ void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& s
 
 SwarmState read_checkpoint(const std::filesystem::path& path, const ParameterSpace& space) {
   const Reader r(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("checkpoint " + path.string() + ": cannot open");
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {  // a syntax error, or a number past a double's range
-    throw std::runtime_error("checkpoint " + path.string() + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!doc.is_object() || !doc.contains("format") || doc["format"] != kFormat) {
-    r.fail("format", std::string("expected \"") + kFormat + "\"");
-  }
-  if (r.integer<int>(doc, "version", "") != kVersion) {
-    r.fail("version", "this build reads version " + std::to_string(kVersion));
-  }
+  const json doc = read_checkpoint_json(path, k_swarm_checkpoint);
   check_space(r, r.at(doc, "space", "space"), space);
 
   SwarmState st;

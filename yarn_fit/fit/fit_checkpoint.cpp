@@ -1,14 +1,13 @@
 #include "yarn_fit/fit/fit_checkpoint.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
 #include "fabrics_db/text_util.hpp"
-#include "swarm/json_numbers.hpp"
+#include "swarm/checkpoint_json.hpp"
 
 namespace yarnfit::yarn {
 
@@ -16,8 +15,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr const char* kFormat = "yarnfit fit checkpoint";
-constexpr int kVersion = 1;
+constexpr swarm::CheckpointKind k_fit_checkpoint{"fit checkpoint", "yarnfit fit checkpoint", 1};
 
 using swarm::json_columns;
 using swarm::json_number;
@@ -182,14 +180,9 @@ AlternationSummary run_of(const json& j) {
 }  // namespace
 
 FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file) {
-  std::ifstream stream(file);
-  if (!stream) throw std::runtime_error("fit checkpoint " + file.string() + ": cannot be read");
+  const json j = swarm::read_checkpoint_json(file, k_fit_checkpoint);
   FitCheckpoint out;
   try {
-    const json j = json::parse(stream);
-    if (!j.is_object()) throw std::runtime_error("not a version " + std::to_string(kVersion) + " yarnfit fit checkpoint");
-    if (j.value("format", std::string()) != kFormat || j.value("version", 0) != kVersion)
-      throw std::runtime_error("not a version " + std::to_string(kVersion) + " yarnfit fit checkpoint");
     if (j.contains("rescored")) {
       const json& rescored = j["rescored"];
       if (!rescored.is_array()) throw BadField{"rescored", "expected an array, got " + rescored.dump()};
@@ -217,7 +210,7 @@ FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file) {
 }
 
 void write_fit_checkpoint(const std::filesystem::path& file, const FitCheckpoint& checkpoint) {
-  json j{{"format", kFormat}, {"version", kVersion}};
+  json j = swarm::checkpoint_preamble(k_fit_checkpoint);
   if (checkpoint.rescored) {
     json c = json::array();
     for (const auto& g : *checkpoint.rescored) c.push_back({{"point", json_vector(g.point)}, {"value", json_number(g.value)}});

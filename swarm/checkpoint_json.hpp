@@ -1,17 +1,34 @@
 #pragma once
-// Doubles and Eigen vectors as checkpoint JSON: finite values as numbers (17 significant
-// digits, which round-trips every finite double), ±inf and NaN, which JSON has no numbers
-// for, as the strings "inf", "-inf" and "nan"; and read back. Shared by the swarm's and the
-// fit's checkpoints.
+// What the swarm's and the fit's checkpoints share: the preamble each opens with and its check
+// on reading, and doubles and Eigen vectors as JSON: finite values as numbers (17 significant
+// digits, which round-trips every finite double), ±inf and NaN, which JSON has no numbers for,
+// as the strings "inf", "-inf" and "nan"; and read back.
 
 #include <Eigen/Core>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string>
 #include <nlohmann/json.hpp>
 
 namespace yarnfit::swarm {
+
+// A kind of checkpoint: how its errors name it ("checkpoint", "fit checkpoint"), and the
+// format and version its preamble carries.
+struct CheckpointKind {
+  const char* label;
+  const char* format;
+  int version;
+};
+
+// {"format": kind.format, "version": kind.version}: the object a checkpoint's fields join.
+[[nodiscard]] nlohmann::json checkpoint_preamble(const CheckpointKind& kind);
+
+// The JSON of the checkpoint `path`, its preamble checked. Throws std::runtime_error
+// "LABEL PATH: REASON" when the file cannot be opened, is not JSON, or is not an object of
+// this kind's format and version.
+[[nodiscard]] nlohmann::json read_checkpoint_json(const std::filesystem::path& path, const CheckpointKind& kind);
 
 inline nlohmann::json json_number(double v) {
   if (std::isfinite(v)) return v;

@@ -1,0 +1,34 @@
+#include "swarm/checkpoint_json.hpp"
+
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+namespace yarnfit::swarm {
+
+nlohmann::json checkpoint_preamble(const CheckpointKind& kind) {
+  return {{"format", kind.format}, {"version", kind.version}};
+}
+
+nlohmann::json read_checkpoint_json(const std::filesystem::path& path, const CheckpointKind& kind) {
+  const auto fail = [&](const std::string& reason) {
+    throw std::runtime_error(std::string(kind.label) + " " + path.string() + ": " + reason);
+  };
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("cannot open");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number past a double's range
+    fail(std::string("not valid JSON (") + e.what() + ")");
+  }
+  const auto format = doc.is_object() ? doc.find("format") : doc.end();
+  if (!doc.is_object() || format == doc.end() || *format != kind.format)
+    fail(std::string("format: expected \"") + kind.format + "\"");
+  const auto version = doc.find("version");
+  if (version == doc.end() || !version->is_number_integer() || *version != kind.version)
+    fail("version: this build reads version " + std::to_string(kind.version));
+  return doc;
+}
+
+}  // namespace yarnfit::swarm
