@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fabrics_db/problems.hpp"
 #include "reports/collection/report_data.hpp"
 
 namespace yarnfit::cli {
@@ -25,7 +26,7 @@ void add_shell_commands(CLI::App& app, int& exit_code);
 // `shell sim`, registered on the `shell` subcommand by add_shell_commands.
 void add_shell_sim_command(CLI::App& shell, int& exit_code);
 void add_synth_commands(CLI::App& app, int& exit_code);
-// `synth yarn`, registered on the `synth` subcommand (cli/commands_synth_yarn.cpp).
+// `synth yarn`, registered on the `synth` subcommand (cli/commands_synth.cpp).
 void add_synth_yarn_command(CLI::App& synth, int& exit_code);
 void add_synth_fabric_command(CLI::App& synth, int& exit_code);
 // `yarn sim` and `yarn curve`: periodic yarn tile simulations (SPEC §5).
@@ -62,4 +63,7 @@ int exit_code_of_writing(const std::string& out, Write&& write) {
 // Runs `write`, which writes files into the folder `out`; false after printing
 // `out: file: what` when it throws (an internal failure: exit 1).
 bool write_files(const std::string& out, const std::function<void()>& write);
+// Prints `problems` on stderr, one a line after `prefix` ("tile make: "), their fields as the
+// options that set them (cli/option_names.hpp); returns the exit code of invalid input.
+int invalid_input(const db::Problems& problems, const std::string& prefix = "");
 }  // namespace yarnfit::cli

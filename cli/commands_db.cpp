@@ -4,12 +4,12 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "cli/output.hpp"
 #include "fabrics_db/fab/fab_import.hpp"
 #include "fabrics_db/import/tensile_import.hpp"
 #include "fabrics_db/records/database.hpp"
 #include "fabrics_db/records/fabric_summary.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "reports/summaries/fabric_text.hpp"
 
 namespace yarnfit::cli {
 namespace {
@@ -65,7 +65,7 @@ int run_list(const fs::path& path, const std::string& family, bool as_json) {
   print_notes(db);
   print_problems(shown);
   if (as_json) std::cout << entries.dump(2) << "\n";
-  else print_fabric_table(std::cout, entries);
+  else reports::print_fabric_table(std::cout, entries);
   return shown.empty() ? k_exit_ok : k_exit_invalid_input;
 }
 
@@ -82,7 +82,7 @@ int run_show(const fs::path& path, bool as_json) {
   }
   const auto j = db::describe_fabric(*load.fabric);
   if (as_json) std::cout << j.dump(2) << "\n";
-  else print_fabric(std::cout, j);
+  else reports::print_fabric(std::cout, j);
   return k_exit_ok;
 }
 
@@ -114,15 +114,7 @@ int run_import(const ImportArgs& a) {
 
   const auto r = db::import_tensile(o);
   if (!say_problems(r.problems, r.written)) return k_exit_invalid_input;
-  if (!a.quiet) {
-    std::cout << "wrote " << o.output.string() << ": " << r.rows_written << " rows";
-    if (r.rows_dropped > 0) std::cout << " (" << r.rows_dropped << " dropped outside the loading branch)";
-    std::cout << ", stretch " << db::format_g(r.curve.stretch.front(), 4) << " to "
-              << db::format_g(r.curve.stretch.back(), 4) << ", force up to "
-              << db::format_g(*std::max_element(r.curve.force.begin(), r.curve.force.end()), 4)
-              << " N" << (r.curve.has_compression() ? ", with compression" : ", no compression")
-              << "\n";
-  }
+  if (!a.quiet) std::cout << reports::tensile_import_text(r, o.output.string());
   return k_exit_ok;
 }
 
@@ -131,13 +123,6 @@ struct FabArgs {
   double denier = 0.0, stitch_length_mm = 0.0, yarn_radius_mm = 0.0;
   bool quiet = false;
 };
-
-// A name from a stranger's file, with control characters shown as '?' (no terminal escapes).
-std::string printable(std::string text) {
-  for (char& c : text)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  return text;
-}
 
 int run_import_fab(const FabArgs& a) {
   db::FabImportOptions o;
@@ -153,31 +138,7 @@ int run_import_fab(const FabArgs& a) {
   if (a.yarn_radius_mm != 0.0) o.yarn_radius_mm = a.yarn_radius_mm;
   const auto r = db::import_fab(o);
   if (!say_problems(r.problems, r.written)) return k_exit_invalid_input;
-  if (!a.quiet) {
-    const auto& m = *r.measurement;
-    std::size_t tests = 0, branches = 0;
-    for (const auto& [d, ts] : m.tests) {
-      tests += ts.size();
-      for (const auto& t : ts) branches += t.branches.size();
-    }
-    std::cout << "wrote " << o.output.string() << ": " << tests << " FAB tests (" << branches
-              << " branches) from " << m.label << (m.name.empty() ? "" : " (" + printable(m.name) + ")") << "\n"
-              << "  mass per area " << db::format_g(m.mass_per_area * 1e3, 4) << " g/m², thickness "
-              << (m.thickness ? db::format_g(*m.thickness * 1e3, 3) + " mm" : "not given") << "\n";
-    for (const auto& [d, ts] : m.tests) {
-      std::cout << "  " << db::to_string(d) << " (" << db::fab_grain_letter(d) << "):";
-      for (const auto& t : ts)
-        std::cout << " " << t.name << " " << db::format_g(t.clamp_distance * 1e3, 4) << " mm"
-                  << (t.zero_offset ? ", zero " + db::format_g(*t.zero_offset / db::k_gram_force, 3) + " gf" : "")
-                  << ";";
-      std::cout << "\n";
-    }
-    std::cout << "  stretch_tests: each grain's S2, the mean of its loading branches"
-              << (r.stretch_points_dropped > 0 ? " (" + std::to_string(r.stretch_points_dropped) +
-                                                     " samples left out: not advancing or below zero)"
-                                               : "")
-              << "\n";
-  }
+  if (!a.quiet) std::cout << reports::fab_import_text(r, o.output.string());
   return k_exit_ok;
 }
 

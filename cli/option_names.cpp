@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <vector>
 
 namespace yarnfit::cli {
@@ -34,13 +35,26 @@ std::string option_name(const std::string& field) {
       {"global_method", "--global"},
       {"local_method", "--local"},
       {"targets", "--targets"},
+      {"bend_mesh", "--bend-mesh"},
+      {"stretches", "--weft/--bias/--warp"},
   };
   std::string bare = field;
   if (bare.rfind("fit.", 0) == 0) bare = bare.substr(4);  // batch::BatchOptions::fit
   for (const char* prefix : {"shell.", "yarn."})
     if (bare.rfind(prefix, 0) == 0) bare = bare.substr(std::string(prefix).size());
-  const auto it = options.find(bare);
-  return it == options.end() ? field : it->second;
+  // The fields of the simulator commands' requests (pipeline/tools/) whose option is their
+  // name with dashes: "stitch_length_mm" is --stitch-length-mm.
+  static const std::set<std::string> plain{
+      "chart", "weave", "stitch_length_mm", "yarn_spacing_mm", "yarn_radius_mm", "weft_crimp_share", "gauge", "aspect",
+      "ks2", "directions", "bending", "stress_tolerance", "compression_method", "stretch", "compression",
+      "free_compression", "curvature", "dump", "max_stretch", "points", "dump_dir", "distance", "direction", "length_mm",
+      "width_mm", "gauge_length_mm", "gauge_width_mm", "areal_density_gsm", "ktheta_weft", "ktheta_bias", "ktheta_warp",
+      "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "lxx", "bxx", "lyy", "byy", "lss", "bss", "axx", "ayy"};
+  if (const auto it = options.find(bare); it != options.end()) return it->second;
+  if (!plain.contains(bare)) return field;
+  std::string option = "--" + bare;
+  std::replace(option.begin(), option.end(), '_', '-');
+  return option;
 }
 
 db::Problems as_options(const db::Problems& problems) {

@@ -1,12 +1,8 @@
 #include "cli/yarn_scene.hpp"
 
-#include <cmath>
-
-#include "fabrics_db/text_util.hpp"
-
 namespace yarnfit::cli {
 
-void add_yarn_scene_options(CLI::App& app, YarnSceneArgs& a) {
+void add_yarn_scene_options(CLI::App& app, pipeline::YarnSceneRequest& a) {
   app.add_option("--pattern", a.pattern, "Periodic yarn tile (HYLC pyp, metres); its x axis is the weft")->required();
   app.add_option("--params", a.params_file,
                  "Yarn parameters, YAML or JSON, SI units, keys of yarn_fit.json's params: ks1, eps_s, kb, R1, "
@@ -39,41 +35,6 @@ void add_yarn_scene_options(CLI::App& app, YarnSceneArgs& a) {
   app.add_option("--threads", a.threads, "OpenMP threads for the simulation's parallel loops (the yarn solver is serial today)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  app.add_flag("-q,--quiet", a.quiet, "No progress and no summary (JSON output is still printed)");
-}
-
-yarn::YarnSceneSetup scene_setup(const YarnSceneArgs& a) {
-  yarn::YarnSceneSetup s;
-  s.pattern = a.pattern;
-  s.params = a.params_file;
-  s.direction = a.direction;
-  s.ks2 = a.ks2;
-  s.rest_shape = a.rest_shape;
-  s.rest_rounds = a.rest_rounds;
-  s.max_iterations = a.max_iterations;
-  s.stress_tolerance = a.stress_tolerance;
-  s.compression = a.compression_method == "cobyla" ? yarn::CompressionMethod::cobyla : yarn::CompressionMethod::root_find;
-  return s;
-}
-
-std::optional<yarn::YarnScene> load_yarn_scene(const YarnSceneArgs& a, std::vector<std::string>& problems) {
-  const std::size_t before = problems.size();
-  if (!(std::isfinite(a.ks2) && a.ks2 >= 0.0))
-    problems.push_back("--ks2: " + db::format_g(a.ks2) + ": must be a positive stiffness [N]");
-  if (!(std::isfinite(a.stress_tolerance) && (a.stress_tolerance >= 0.0 || a.stress_tolerance == yarn::EquilibriumOptions{}.stress_tolerance)))
-    problems.push_back("--stress-tolerance: " + db::format_g(a.stress_tolerance) + ": must be a stress ≥ 0 [N/m]");
-  db::Problems found;
-  auto scene = yarn::load_yarn_scene(scene_setup(a), found);
-  bool fixed_missing = false;
-  for (const auto& p : found.items()) {
-    problems.push_back(p.to_string());
-    fixed_missing = fixed_missing || ((p.field == "ks2" || p.field == "kc2" || p.field == "R2") && p.message == "missing");
-  }
-  if (fixed_missing && !(a.ks2 > 0.0))
-    problems.push_back("--ks2: not given: write ks2, kc2 and R2 in " + a.params_file +
-                       ", or pass --ks2 N to derive the missing ones from the tile");
-  if (problems.size() != before) return std::nullopt;
-  return scene;
 }
 
 }  // namespace yarnfit::cli

@@ -91,18 +91,29 @@ const std::vector<Exception> k_exceptions = {
     // the types.
     {"reports/collection/report_data.cpp", "compression_pct", "report.json column"},
     // `db show` prints a record's uniform targets (db::DirectionTargets' comfort_stretch).
-    {"cli/output.cpp", "comfort_stretch", "uniform targets field"},
+    {"reports/summaries/fabric_text.cpp", "comfort_stretch", "uniform targets field"},
     // `db show` prints a fabric record (its pear-loop clamp distances, whether compression was
     // measured), and `shell sim` / the scenes' JSON name a scene's clamp distance alike.
-    {"cli/output.cpp", "clamp_distance_m", "fabric record field"},
-    {"cli/output.cpp", "compression_measured", "fabric record field"},
+    {"reports/summaries/fabric_text.cpp", "clamp_distance_m", "fabric record field"},
+    {"reports/summaries/fabric_text.cpp", "compression_measured", "fabric record field"},
     // `db show` prints a knit record's pattern (fabric.yaml: chart, stitch length, yarn radius).
-    {"cli/output.cpp", "chart_rows", "fabric record field"},
-    {"cli/output.cpp", "stitch_length_mm", "fabric record field"},
-    {"cli/output.cpp", "yarn_radius_mm", "fabric record field"},
+    {"reports/summaries/fabric_text.cpp", "chart_rows", "fabric record field"},
+    {"reports/summaries/fabric_text.cpp", "stitch_length_mm", "fabric record field"},
+    {"reports/summaries/fabric_text.cpp", "yarn_radius_mm", "fabric record field"},
     // `yarn sim` prints the scene's rest state (yarn_fit/scenes: the relaxation's own figures).
     {"yarn_fit/scenes/yarn_scene.cpp", "rest_stress_N_per_m", "yarn scene output"},
     {"shell_fit/scenes/scene_json.cpp", "clamp_distance_m", "pear-loop scene output of shell sim"},
+    // The simulator commands' requests (pipeline/tools/) name their fields in their problems,
+    // and the command line shows each as the option that sets it (cli/option_names.cpp): the
+    // words of a request, not of a result file.
+    {"pipeline/tools/make_tile.cpp", "chart", "tile make request field"},
+    {"pipeline/tools/make_tile.cpp", "stitch_length_mm", "tile make request field"},
+    {"pipeline/tools/make_tile.cpp", "yarn_radius_mm", "tile make request field"},
+    {"pipeline/tools/synth_records.cpp", "directions", "synth request field"},
+    {"cli/option_names.cpp", "chart", "request field shown as its option"},
+    {"cli/option_names.cpp", "stitch_length_mm", "request field shown as its option"},
+    {"cli/option_names.cpp", "yarn_radius_mm", "request field shown as its option"},
+    {"cli/option_names.cpp", "directions", "request field shown as its option"},
 };
 
 // Files of another format that shares words with the result files: the yarn fit's checkpoint

@@ -1,4 +1,4 @@
-#include "cli/output.hpp"
+#include "reports/summaries/fabric_text.hpp"
 
 #include <algorithm>
 #include <iomanip>
@@ -7,9 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "fabrics_db/fab/fab_physics.hpp"
 #include "fabrics_db/text_util.hpp"
 
-namespace yarnfit::cli {
+namespace yarnfit::reports {
 namespace {
 
 using nlohmann::json;
@@ -20,7 +21,7 @@ std::string g(const json& v, int digits = 4, double scale = 1.0) {
   return format_g(v.get<double>() * scale, digits);
 }
 
-std::string range(const json& r, int digits = 4, double scale = 1.0) {
+std::string span_text(const json& r, int digits = 4, double scale = 1.0) {
   if (r.is_null()) return "-";
   return g(r[0], digits, scale) + " to " + g(r[1], digits, scale);
 }
@@ -60,6 +61,13 @@ void print_tile(std::ostream& out, const json& p) {
       << " radii), closest contact distance " << g(p["min_contact_distance_m"], 3, 1e3) << " mm\n";
 }
 
+// A name from a stranger's file, with control characters shown as '?' (no terminal escapes).
+std::string printable(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return text;
+}
+
 }  // namespace
 
 void print_fabric(std::ostream& out, const json& f) {
@@ -86,9 +94,9 @@ void print_fabric(std::ostream& out, const json& f) {
   for (const auto& [dir, t] : in_direction_order(f["stretch_tests"])) {
     out << "    " << std::left << std::setw(5) << dir << std::right << " " << t["points"].get<int>()
         << " points from " << t["file"].get<std::string>() << "\n";
-    out << "          stretch " << range(t["stretch"]) << ", force " << range(t["force_N"])
+    out << "          stretch " << span_text(t["stretch"]) << ", force " << span_text(t["force_N"])
         << " N (up to " << g(t["line_force_N_per_m"][1]) << " N/m), compression "
-        << (t["compression_measured"].get<bool>() ? range(t["compression"]) : "not measured") << "\n";
+        << (t["compression_measured"].get<bool>() ? span_text(t["compression"]) : "not measured") << "\n";
     out << "          swatch " << size_mm(t["swatch"]);
     if (t.contains("gauge")) {
       const auto& gg = t["gauge"];
@@ -104,8 +112,8 @@ void print_fabric(std::ostream& out, const json& f) {
   out << "  bending tests:" << (f["bending_tests"].empty() ? " none" : "") << "\n";
   for (const auto& [dir, t] : in_direction_order(f["bending_tests"])) {
     out << "    " << std::left << std::setw(5) << dir << std::right << " " << t["points"].get<int>()
-        << " points, clamp distance " << range(t["clamp_distance_m"], 4, 1e3)
-        << " mm, aspect ratio " << range(t["aspect_ratio"]) << "\n";
+        << " points, clamp distance " << span_text(t["clamp_distance_m"], 4, 1e3)
+        << " mm, aspect ratio " << span_text(t["aspect_ratio"]) << "\n";
   }
   if (f.contains("fab_tests") && !f["fab_tests"].empty()) {
     out << "  FAB tests (every cycle and branch; docs/fab.md):\n";
@@ -160,4 +168,43 @@ void print_fabric_table(std::ostream& out, const json& entries) {
   out << std::right << entries.size() << " fabric" << (entries.size() == 1 ? "" : "s") << "\n";
 }
 
-}  // namespace yarnfit::cli
+std::string tensile_import_text(const db::TensileImportResult& r, const std::string& output) {
+  std::ostringstream out;
+  out << "wrote " << output << ": " << r.rows_written << " rows";
+  if (r.rows_dropped > 0) out << " (" << r.rows_dropped << " dropped outside the loading branch)";
+  out << ", stretch " << db::format_g(r.curve.stretch.front(), 4) << " to "
+      << db::format_g(r.curve.stretch.back(), 4) << ", force up to "
+      << db::format_g(*std::max_element(r.curve.force.begin(), r.curve.force.end()), 4)
+      << " N" << (r.curve.has_compression() ? ", with compression" : ", no compression")
+      << "\n";
+  return out.str();
+}
+
+std::string fab_import_text(const db::FabImportResult& r, const std::string& output) {
+  std::ostringstream out;
+  const auto& m = *r.measurement;
+  std::size_t tests = 0, branches = 0;
+  for (const auto& [d, ts] : m.tests) {
+    tests += ts.size();
+    for (const auto& t : ts) branches += t.branches.size();
+  }
+  out << "wrote " << output << ": " << tests << " FAB tests (" << branches
+      << " branches) from " << m.label << (m.name.empty() ? "" : " (" + printable(m.name) + ")") << "\n"
+      << "  mass per area " << db::format_g(m.mass_per_area * 1e3, 4) << " g/m², thickness "
+      << (m.thickness ? db::format_g(*m.thickness * 1e3, 3) + " mm" : "not given") << "\n";
+  for (const auto& [d, ts] : m.tests) {
+    out << "  " << db::to_string(d) << " (" << db::fab_grain_letter(d) << "):";
+    for (const auto& t : ts)
+      out << " " << t.name << " " << db::format_g(t.clamp_distance * 1e3, 4) << " mm"
+          << (t.zero_offset ? ", zero " + db::format_g(*t.zero_offset / db::k_gram_force, 3) + " gf" : "") << ";";
+    out << "\n";
+  }
+  out << "  stretch_tests: each grain's S2, the mean of its loading branches"
+      << (r.stretch_points_dropped > 0
+              ? " (" + std::to_string(r.stretch_points_dropped) + " samples left out: not advancing or below zero)"
+              : "")
+      << "\n";
+  return out.str();
+}
+
+}  // namespace yarnfit::reports
