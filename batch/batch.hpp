@@ -29,15 +29,9 @@
 
 #include "batch/batch_options.hpp"
 #include "batch/ledger.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::batch {
-
-// DIR cannot be used (another batch holds it, the ledger cannot be opened) or the options
-// are invalid: nothing was run. Exit 2.
-class BatchError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct FailedFabric {
   std::string fabric_id;
@@ -65,7 +59,7 @@ struct BatchSummary {
 
 // Runs the batch on this machine: `jobs` fabrics at once, each in a child process (a crash in
 // one fit cannot take the batch down) with `threads_per_job` OpenMP threads. Throws
-// BatchError when nothing can be run (see above); a failing fabric never throws.
+// an Error when nothing can be run (see above); a failing fabric never throws.
 BatchSummary run_batch(const BatchOptions& options);
 
 // True when this yarnfit was built with MPI.
@@ -74,14 +68,14 @@ BatchSummary run_batch(const BatchOptions& options);
 // the caller did): rank 0
 // owns the ledger and hands fabrics to ranks 1…K−1, which fit them in-process with
 // `threads_per_job` threads each and write into DIR (a shared filesystem). Rank 0 returns
-// the summary, the workers one with coordinator = false once rank 0 has no more work. Throws BatchError
+// the summary, the workers one with coordinator = false once rank 0 has no more work. Throws an Error
 // (on rank 0, after telling the workers to stop) as run_batch does, and when built without MPI.
 BatchSummary run_batch_mpi(const BatchOptions& options);
 
 // MPI for a caller that runs more than the batch under mpirun (the service: rank 0 serves HTTP
 // and coordinates, the others fit): initialised (threads SERIALIZED: the batch may run on a
 // thread other than the main one) from construction to destruction, on the main thread.
-// Throws BatchError when built without MPI.
+// Throws an Error when built without MPI.
 class MpiScope {
  public:
   MpiScope();

@@ -12,7 +12,7 @@ namespace yarnfit::batch {
 // True when `dir` holds a batch ledger (DIR/batch.db).
 [[nodiscard]] bool is_batch_folder(const std::filesystem::path& dir);
 
-// Throws LedgerError when the ledger cannot be read.
+// Throws an Error when the ledger cannot be read.
 reports::RunOutputs read_batch_outputs(const std::filesystem::path& dir);
 
 // The report of one batch folder written to DIR/report/ (what `batch` does when it ends);

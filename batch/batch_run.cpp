@@ -16,6 +16,7 @@
 #include "fabrics_db/records/database.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "pipeline/plan.hpp"
 
 namespace yarnfit::batch {
@@ -29,10 +30,10 @@ double seconds_between(Clock::time_point a, Clock::time_point b) { return std::c
 
 const BatchOptions& checked(const BatchOptions& options) {
   const db::Problems problems = options.problems();
-  if (!problems.empty()) throw BatchError(problems.to_string());
+  if (!problems.empty()) throw Error(ErrorCategory::input, problems.to_string());
   std::error_code ec;
   fs::create_directories(options.out, ec);
-  if (ec) throw BatchError(options.out.string() + ": cannot create the output folder: " + ec.message());
+  if (ec) throw Error(ErrorCategory::io, options.out.string() + ": cannot create the output folder: " + ec.message());
   return options;
 }
 
@@ -65,13 +66,13 @@ bool process_alive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid)
 DirectoryLock::DirectoryLock(const fs::path& out) {
   const fs::path file = out / "batch.lock";
   m_fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (m_fd < 0) throw BatchError(file.string() + ": cannot open: " + std::strerror(errno));
+  if (m_fd < 0) throw Error(ErrorCategory::io, file.string() + ": cannot open: " + std::strerror(errno));
   if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
     std::string holder, why;
     db::read_text_file(file, holder, why);
     ::close(m_fd);
     m_fd = -1;
-    throw BatchError(out.string() + ": another batch is running in this folder (" +
+    throw Error(ErrorCategory::conflict, out.string() + ": another batch is running in this folder (" +
                      std::string(db::trim(holder)) + "); wait for it or stop it first");
   }
   const std::string me = "pid " + std::to_string(::getpid()) + " on " + host_name() + "\n";
@@ -116,7 +117,7 @@ void BatchRun::plan() {
                           m_options.database.string() + ": no fabric" +
                               (m_options.family.empty() ? std::string() : " of family " + m_options.family) +
                               (database.problems.empty() ? std::string() : " (" + problems_text(database.problems) + ")"));
-  if (!argument_problems.empty()) throw BatchError(argument_problems.to_string());
+  if (!argument_problems.empty()) throw Error(ErrorCategory::input, argument_problems.to_string());
   for (const std::size_t i : selected) plan_fabric(keys[i], database.fabrics[i], m_options.fit, false, false);
 }
 

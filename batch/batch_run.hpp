@@ -17,7 +17,7 @@
 
 namespace yarnfit::batch {
 
-// DIR/batch.lock, held (flock) from construction to destruction; throws BatchError naming the
+// DIR/batch.lock, held (flock) from construction to destruction; throws an Error naming the
 // holder when another batch has it.
 class DirectoryLock {
  public:
@@ -35,7 +35,7 @@ class DirectoryLock {
 class BatchRun {
  public:
   // Checks the options, takes DIR, opens the ledger and plans every selected fabric (recording
-  // the invalid ones as failed). Throws BatchError when nothing can be run.
+  // the invalid ones as failed). Throws an Error when nothing can be run.
   explicit BatchRun(const BatchOptions& options);
 
   [[nodiscard]] const BatchOptions& options() const { return m_options; }

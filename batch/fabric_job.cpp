@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "numerics/util/error.hpp"
 #include "yarn_fit/fit/fit_checkpoint.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "pipeline/plan.hpp"
@@ -156,7 +157,7 @@ std::string to_message(const JobSpec& spec) {
 
 JobSpec job_spec_from_message(const std::string& message) {
   const json j = json::parse(message, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) throw std::runtime_error("bad job message: " + message);
+  if (j.is_discarded() || !j.is_object()) throw Error(ErrorCategory::system, "bad job message: " + message);
   return {j.value("fabric_id", ""), j.value("family", ""), j.value("folder", ""), j.value("resume", false), std::nullopt,
           false};
 }
@@ -165,7 +166,7 @@ std::string to_message(const JobOutcome& outcome) { return json{{"ok", outcome.o
 
 JobOutcome job_outcome_from_message(const std::string& message) {
   const json j = json::parse(message, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) throw std::runtime_error("bad outcome message: " + message);
+  if (j.is_discarded() || !j.is_object()) throw Error(ErrorCategory::system, "bad outcome message: " + message);
   return {j.value("ok", false), j.value("error", "")};
 }
 

@@ -56,7 +56,7 @@ std::vector<ResultRow> read_result_rows(const std::filesystem::path& fabric_outp
                                         const std::string& fabric_id, const std::string& family);
 
 // JobSpec and JobOutcome as one line of JSON and back (the messages of the local batch's
-// pipes and of MPI); parse failures throw std::runtime_error.
+// pipes and of MPI); parse failures throw an Error.
 std::string to_message(const JobSpec& spec);
 JobSpec job_spec_from_message(const std::string& message);
 std::string to_message(const JobOutcome& outcome);

@@ -1,6 +1,7 @@
 #include "batch/ledger.hpp"
 
 #include "batch/sqlite_statement.hpp"
+#include "numerics/util/error.hpp"
 
 #include <sqlite3.h>
 #include <unistd.h>
@@ -57,8 +58,8 @@ CREATE TABLE IF NOT EXISTS events(
   detail TEXT);
 )sql";
 
-// A prepared statement; every failure throws LedgerError naming the ledger file.
-using Statement = SqliteStatement<LedgerError>;
+// A prepared statement; every failure throws an io Error naming the ledger file.
+using Statement = SqliteStatement;
 
 constexpr const char* k_job_columns =
     "fabric_id, family, folder, hash, options, status, stage, attempts, host, pid, heartbeat, started, ended, error";
@@ -107,13 +108,13 @@ std::string host_name() {
 Ledger::Ledger(const std::filesystem::path& file) : Ledger(file, false) {}
 
 Ledger Ledger::open_read_only(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) throw LedgerError(file.string() + ": no batch ledger here");
+  if (!std::filesystem::exists(file)) throw Error(ErrorCategory::input, file.string() + ": no batch ledger here");
   return Ledger(file, true);
 }
 
 Ledger::Ledger(const std::filesystem::path& file, bool read_only) : m_file(file) {
   // Readers (status, sqlite3) wait for the writer's short transactions instead of failing.
-  m_db = open_sqlite<LedgerError>(file, read_only, "the batch ledger");
+  m_db = open_sqlite(file, read_only, "the batch ledger");
   if (read_only) return;
   // WAL: readers never block the writer; synchronous=FULL: a committed job survives a power cut.
   exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
@@ -121,7 +122,7 @@ Ledger::Ledger(const std::filesystem::path& file, bool read_only) : m_file(file)
   Statement version(m_db, m_file, "SELECT value FROM meta WHERE key = 'schema_version'");
   if (version.step()) {
     if (version.text(0) != std::to_string(k_ledger_schema_version))
-      throw LedgerError(file.string() + ": ledger schema version " + version.text(0) + ", this yarnfit writes " +
+      throw Error(ErrorCategory::conflict, file.string() + ": ledger schema version " + version.text(0) + ", this yarnfit writes " +
                         std::to_string(k_ledger_schema_version));
   } else {
     Statement put(m_db, m_file, "INSERT INTO meta(key, value) VALUES ('schema_version', ?1), ('created_by', ?2)");
@@ -135,9 +136,9 @@ Ledger::~Ledger() {
 
 Ledger::Ledger(Ledger&& other) noexcept : m_file(std::move(other.m_file)), m_db(std::exchange(other.m_db, nullptr)) {}
 
-void Ledger::exec(const std::string& sql) const { exec_sql<LedgerError>(m_db, m_file, sql); }
+void Ledger::exec(const std::string& sql) const { exec_sql(m_db, m_file, sql); }
 
-void Ledger::transaction(const std::function<void()>& body) { sql_transaction<LedgerError>(m_db, m_file, body); }
+void Ledger::transaction(const std::function<void()>& body) { sql_transaction(m_db, m_file, body); }
 
 std::optional<JobRow> Ledger::job(const std::string& fabric_id) const {
   Statement s(m_db, m_file, std::string("SELECT ") + k_job_columns + " FROM jobs WHERE fabric_id = ?1");

@@ -27,16 +27,13 @@
 #include <string_view>
 #include <vector>
 
+#include "numerics/util/error.hpp"
+
 struct sqlite3;
 
 namespace yarnfit::batch {
 
 inline constexpr int k_ledger_schema_version = 1;
-
-class LedgerError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct JobRow {
   std::string fabric_id;
@@ -78,7 +75,7 @@ struct EventRow {
 
 class Ledger {
  public:
-  // Opens or creates the ledger (and its schema). Throws LedgerError naming the file.
+  // Opens or creates the ledger (and its schema). Throws an Error naming the file.
   explicit Ledger(const std::filesystem::path& file);
   // Opens an existing ledger read-only (batch status); throws when there is none.
   static Ledger open_read_only(const std::filesystem::path& file);

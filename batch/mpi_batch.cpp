@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/batch_run.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::batch {
 
@@ -162,7 +163,7 @@ bool mpi_available() { return true; }
 MpiScope::MpiScope() {
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-  if (provided < MPI_THREAD_SERIALIZED) throw BatchError("this MPI cannot be called from a thread other than main");
+  if (provided < MPI_THREAD_SERIALIZED) throw Error(ErrorCategory::system, "this MPI cannot be called from a thread other than main");
   MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &m_size);
 }
@@ -200,7 +201,7 @@ BatchSummary run_batch_mpi(const BatchOptions& options) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  if (size < 2) throw BatchError("--mpi needs at least 2 ranks (rank 0 coordinates, the others fit): mpirun -np K");
+  if (size < 2) throw Error(ErrorCategory::input, "--mpi needs at least 2 ranks (rank 0 coordinates, the others fit): mpirun -np K");
   if (rank != 0) {
     worker(options);
     BatchSummary none;
@@ -219,10 +220,10 @@ namespace yarnfit::batch {
 bool mpi_available() { return false; }
 
 BatchSummary run_batch_mpi(const BatchOptions&) {
-  throw BatchError("--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)");
+  throw Error(ErrorCategory::system, "--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)");
 }
 
-MpiScope::MpiScope() { throw BatchError("--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)"); }
+MpiScope::MpiScope() { throw Error(ErrorCategory::system, "--mpi: this yarnfit was built without MPI (install libopenmpi-dev and rebuild)"); }
 MpiScope::~MpiScope() = default;
 void MpiScope::abort(int) { std::abort(); }
 

@@ -1,7 +1,7 @@
 #pragma once
 // A prepared SQLite statement for the project's databases (the batch ledger, the service's
-// accounts): binds and reads by column, and every failure throws `Error` (the database's own
-// error type) naming the database file and what failed.
+// accounts): binds and reads by column, and every failure throws an `Error` of category io
+// naming the database file and what failed.
 
 #include <sqlite3.h>
 
@@ -11,18 +11,19 @@
 #include <limits>
 #include <string>
 
+#include "numerics/util/error.hpp"
+
 namespace yarnfit::batch {
 
 // Opens (or creates, unless read-only) the database `file`; `what` names it in the error
 // ("cannot open the batch ledger: …"). Readers wait up to 10 s for a writer's transaction.
-template <class Error>
-sqlite3* open_sqlite(const std::filesystem::path& file, bool read_only, const std::string& what) {
+inline sqlite3* open_sqlite(const std::filesystem::path& file, bool read_only, const std::string& what) {
   sqlite3* db = nullptr;
   const int flags = read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   if (sqlite3_open_v2(file.c_str(), &db, flags, nullptr) != SQLITE_OK) {
     const std::string why = db ? sqlite3_errmsg(db) : "out of memory";
     sqlite3_close(db);
-    throw Error(file.string() + ": cannot open " + what + ": " + why);
+    throw Error(ErrorCategory::io, file.string() + ": cannot open " + what + ": " + why);
   }
   sqlite3_busy_timeout(db, 10000);
   return db;
@@ -30,31 +31,28 @@ sqlite3* open_sqlite(const std::filesystem::path& file, bool read_only, const st
 
 // Runs `sql` (several statements); whatever transaction a failure leaves open (a failed BEGIN…
 // or COMMIT) is rolled back, so the connection does not keep the write lock.
-template <class Error>
-void exec_sql(sqlite3* db, const std::filesystem::path& file, const std::string& sql) {
+inline void exec_sql(sqlite3* db, const std::filesystem::path& file, const std::string& sql) {
   char* message = nullptr;
   if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
     const std::string why = message ? message : sqlite3_errmsg(db);
     sqlite3_free(message);
     if (!sqlite3_get_autocommit(db)) sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
-    throw Error(file.string() + ": " + why);
+    throw Error(ErrorCategory::io, file.string() + ": " + why);
   }
 }
 
 // `body` in one write transaction: all of it or, when it throws, none of it.
-template <class Error>
-void sql_transaction(sqlite3* db, const std::filesystem::path& file, const std::function<void()>& body) {
-  exec_sql<Error>(db, file, "BEGIN IMMEDIATE");
+inline void sql_transaction(sqlite3* db, const std::filesystem::path& file, const std::function<void()>& body) {
+  exec_sql(db, file, "BEGIN IMMEDIATE");
   try {
     body();
   } catch (...) {
     sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
   }
-  exec_sql<Error>(db, file, "COMMIT");
+  exec_sql(db, file, "COMMIT");
 }
 
-template <class Error>
 class SqliteStatement {
  public:
   SqliteStatement(sqlite3* db, const std::filesystem::path& file, const std::string& sql) : m_db(db), m_file(file) {
@@ -108,7 +106,7 @@ class SqliteStatement {
     if (rc != SQLITE_OK) fail("bind");
   }
   [[noreturn]] void fail(const char* what) const {
-    throw Error(m_file.string() + ": " + what + ": " + sqlite3_errmsg(m_db));
+    throw Error(ErrorCategory::io, m_file.string() + ": " + what + ": " + sqlite3_errmsg(m_db));
   }
   sqlite3* m_db;
   std::filesystem::path m_file;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fabrics_db/problems.hpp"
+#include "numerics/util/error.hpp"
 #include "reports/collection/report_data.hpp"
 
 namespace yarnfit::cli {
@@ -43,6 +44,10 @@ void add_report_command(CLI::App& app, int& exit_code);
 void add_export_command(CLI::App& app, int& exit_code);
 // `serve user` (cli/commands_serve.cpp): the fitting service's accounts.
 void add_serve_commands(CLI::App& app, int& exit_code);
+// The exit code of an error that ends a command: 2 for what the user mends in what they gave or
+// have (ErrorCategory input, conflict), 1 for the rest (io, solve, system).
+inline int exit_code_of(const Error& e) { return e.users_to_mend() ? k_exit_invalid_input : k_exit_internal; }
+
 // Runs `write` (a synth command writing a fabric record into `out`) and turns what it throws
 // into the exit code with one line on stderr: invalid settings and an existing record are the
 // user's to fix (2), anything else is internal (1).
@@ -50,12 +55,12 @@ template <class Write>
 int exit_code_of_writing(const std::string& out, Write&& write) {
   try {
     write();
-  } catch (const std::invalid_argument& e) {
+  } catch (const Error& e) {
     std::cerr << out << ": " << e.what() << "\n";
-    return k_exit_invalid_input;
+    return exit_code_of(e);
   } catch (const std::exception& e) {
     std::cerr << out << ": " << e.what() << "\n";
-    return std::string(e.what()).find("exists") != std::string::npos ? k_exit_invalid_input : k_exit_internal;
+    return k_exit_internal;
   }
   return k_exit_ok;
 }

@@ -4,7 +4,8 @@
 // a terminal and prints the summary.
 //
 // Exit codes: 0 every selected fabric done; 1 some failed (each listed on stderr with its
-// reason) or the batch was interrupted; 2 invalid arguments, or DIR in use by another batch.
+// reason), the batch was interrupted, or DIR cannot be used (io, system); 2 invalid arguments,
+// or DIR in use by another batch (the error's category, cli::exit_code_of).
 #include <unistd.h>
 
 #include <cmath>
@@ -21,32 +22,24 @@
 #include "cli/fit_args.hpp"
 #include "cli/option_names.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
+// The options bind straight to the batch library's (`batch`), and the fit's to the request
+// every front end gives the pipeline (`fit`).
 struct BatchArgs {
+  batch::BatchOptions batch;
   pipeline::FitRequest fit;
-  bool quiet = false, no_report = false;
-  std::string database, out, family;
-  std::vector<std::string> only;
-  int jobs = 1;
-  int threads_per_job = 2;
-  bool retry_failed = false, mpi = false;
+  bool quiet = false, no_report = false, mpi = false;
 };
 
 int run_batch_command(const BatchArgs& a) {
   db::Problems problems;
-  batch::BatchOptions o;
-  o.database = a.database;
-  o.out = a.out;
-  o.jobs = a.jobs;
-  o.threads_per_job = a.threads_per_job;
-  o.family = a.family;
-  o.only = a.only;
-  o.retry_failed = a.retry_failed;
+  batch::BatchOptions o = a.batch;
   o.fit = pipeline::pipeline_options(a.fit, problems);
   problems.append(o.problems());
   if (!problems.empty()) {
@@ -59,30 +52,26 @@ int run_batch_command(const BatchArgs& a) {
   batch::BatchSummary s;
   try {
     s = a.mpi ? batch::run_batch_mpi(o) : batch::run_batch(o);
-  } catch (const batch::BatchError& e) {
+  } catch (const Error& e) {  // nothing ran: the options, the folder in use or unusable, no MPI
     if (show) std::cerr << "\n";
     std::cerr << e.what() << (std::string(e.what()).ends_with("\n") ? "" : "\n");
-    return k_exit_invalid_input;
-  } catch (const batch::LedgerError& e) {
-    if (show) std::cerr << "\n";
-    std::cerr << e.what() << "\n";
-    return k_exit_invalid_input;
+    return exit_code_of(e);
   }
   if (!s.coordinator) return k_exit_ok;  // an MPI worker: rank 0 reports
   if (show) std::cerr << "\n";
   if (!a.quiet) {
-    std::cout << "batch " << a.database << " -> " << a.out << ": " << s.done << " of " << s.selected << " done";
+    std::cout << "batch " << o.database.string() << " -> " << o.out.string() << ": " << s.done << " of " << s.selected << " done";
     if (s.skipped_done > 0) std::cout << " (" << s.skipped_done << " already done earlier)";
     std::cout << ", " << s.failed << " failed; " << s.ran << " fitted in this run";
     if (s.taken_over > 0) std::cout << " (" << s.taken_over << " taken over from a process that died)";
     std::cout << ", " << duration_text(s.seconds) << "\n";
-    std::cout << "results in " << (fs::path(a.out) / "fabrics").string() << "/<id>/, ledger "
-              << batch::ledger_file(a.out).string() << " (yarnfit batch status " << a.out << ")\n";
+    std::cout << "results in " << (o.out / "fabrics").string() << "/<id>/, ledger "
+              << batch::ledger_file(o.out).string() << " (yarnfit batch status " << o.out.string() << ")\n";
   }
   for (const auto& r : s.running_elsewhere) std::cerr << "running elsewhere, not touched: " << r << "\n";
   if (!s.failures.empty()) {
     std::cerr << s.failures.size() << " failed fabric" << (s.failures.size() == 1 ? "" : "s")
-              << (a.retry_failed ? "" : " (rerun with --retry-failed to try them again)") << ":\n";
+              << (o.retry_failed ? "" : " (rerun with --retry-failed to try them again)") << ":\n";
     for (const auto& f : s.failures) {
       std::cerr << "  " << f.fabric_id << ":\n";
       std::istringstream lines(f.error);
@@ -93,7 +82,7 @@ int run_batch_command(const BatchArgs& a) {
   if (!a.no_report) {
     // The report of the whole batch folder (every fabric of its ledger, not only this run's).
     try {
-      const fs::path index = batch::write_batch_report(a.out);
+      const fs::path index = batch::write_batch_report(o.out);
       if (!a.quiet) std::cout << "report: open " << fs::absolute(index).lexically_normal().string() << "\n";
     } catch (const std::exception& e) {
       std::cerr << "batch: the report could not be written: " << e.what() << "\n";
@@ -136,9 +125,9 @@ int run_status(const std::string& dir, bool as_json) {
                 << std::setw(11) << pct(id, "yarn", "stress_comfort_pct") << note << "\n";
     }
     return k_exit_ok;
-  } catch (const batch::LedgerError& e) {
+  } catch (const Error& e) {
     std::cerr << e.what() << "\n";
-    return k_exit_invalid_input;
+    return exit_code_of(e);
   }
 }
 
@@ -151,12 +140,13 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
                "ranks (--mpi under mpirun); DIR/batch.db records every job and its results, DIR/fabrics/<id>/ holds "
                "the files of `fit`; rerunning the same command resumes (done fabrics skipped, changed ones redone, "
                "interrupted ones continued inside their yarn fit: the swarm stage or local run they were in). Exit 0 all done, 1 some failed, 2 bad arguments");
-  b->add_option("DB", a->database, "Database folder (one sub-folder per fabric)");
-  b->add_option("-o,--out", a->out, "Batch folder: batch.db, batch.lock and fabrics/<id>/");
-  b->add_option("--jobs", a->jobs, "Fabrics fitted at once, each in its own process")->capture_default_str();
-  b->add_option("--threads-per-job", a->threads_per_job, "OpenMP threads of each fabric's fit")->capture_default_str();
-  b->add_option("--family", a->family, "Only the fabrics of this family");
-  b->add_option("--only", a->only, "Only these fabric ids (comma-separated)")->delimiter(',');
+  b->add_option("DB", a->batch.database, "Database folder (one sub-folder per fabric)");
+  b->add_option("-o,--out", a->batch.out, "Batch folder: batch.db, batch.lock and fabrics/<id>/");
+  b->add_option("--jobs", a->batch.jobs, "Fabrics fitted at once, each in its own process")->capture_default_str();
+  b->add_option("--threads-per-job", a->batch.threads_per_job, "OpenMP threads of each fabric's fit")
+      ->capture_default_str();
+  b->add_option("--family", a->batch.family, "Only the fabrics of this family");
+  b->add_option("--only", a->batch.only, "Only these fabric ids (comma-separated)")->delimiter(',');
   b->add_option("--stages", a->fit.stages, "shell (the shell fit and its uniform targets) or all (the whole pipeline)")
       ->capture_default_str();
   add_fit_setting_options(*b, a->fit);
@@ -165,7 +155,7 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
   add_fab_held_out_option(*b, a->fit.fab_held_out);
   add_export_option(*b, a->fit.exports);
   b->add_flag("--no-report", a->no_report, "Do not write the HTML report DIR/report/ when the batch ends");
-  b->add_flag("--retry-failed", a->retry_failed, "Run the fabrics that failed before again (same hash)");
+  b->add_flag("--retry-failed", a->batch.retry_failed, "Run the fabrics that failed before again (same hash)");
   b->add_flag("--mpi", a->mpi,
               std::string("Under mpirun: rank 0 keeps the ledger, the other ranks fit") +
                   (batch::mpi_available() ? "" : " (this build has no MPI)"));
@@ -180,8 +170,8 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
 
   b->callback([a, b, st, &exit_code] {
     if (st->parsed()) return;
-    if (a->database.empty() || a->out.empty()) {
-      std::cerr << b->get_name() << ": " << (a->database.empty() ? "DB" : "--out") << " is required\n";
+    if (a->batch.database.empty() || a->batch.out.empty()) {
+      std::cerr << b->get_name() << ": " << (a->batch.database.empty() ? "DB" : "--out") << " is required\n";
       exit_code = k_exit_invalid_input;
       return;
     }

@@ -118,27 +118,16 @@ int run_import(const ImportArgs& a) {
   return k_exit_ok;
 }
 
+// The options bind straight to the importer's (`import`).
 struct FabArgs {
-  std::string input, output, id, family, material, tile, knit;
-  double denier = 0.0, stitch_length_mm = 0.0, yarn_radius_mm = 0.0;
+  db::FabImportOptions import;
   bool quiet = false;
 };
 
 int run_import_fab(const FabArgs& a) {
-  db::FabImportOptions o;
-  o.input = a.input;
-  o.output = a.output;
-  o.id = a.id;
-  o.family = a.family;
-  o.material = a.material;
-  if (a.denier != 0.0) o.denier = a.denier;
-  if (!a.tile.empty()) o.tile = a.tile;
-  o.knit = a.knit;
-  if (a.stitch_length_mm != 0.0) o.stitch_length_mm = a.stitch_length_mm;
-  if (a.yarn_radius_mm != 0.0) o.yarn_radius_mm = a.yarn_radius_mm;
-  const auto r = db::import_fab(o);
+  const auto r = db::import_fab(a.import);
   if (!say_problems(r.problems, r.written)) return k_exit_invalid_input;
-  if (!a.quiet) std::cout << reports::fab_import_text(r, o.output.string());
+  if (!a.quiet) std::cout << reports::fab_import_text(r, a.import.output.string());
   return k_exit_ok;
 }
 
@@ -219,18 +208,18 @@ void add_db_commands(CLI::App& app, int& exit_code) {
       "physics file kept unchanged, each grain's 8 cm stretch as a stretch test (docs/fab.md). "
       "Exits 2 naming the file and the JSON path of every problem; nothing is written then.");
   FabArgs& fa = args->fab;
-  fab->add_option("FILE", fa.input, "The FAB measurement (.json, .u3m or .u3ma)")->required();
-  fab->add_option("-o,--out", fa.output, "The record's folder to create (must not exist)")->required();
-  fab->add_option("--denier", fa.denier, "The yarn's linear density, grams per 9,000 m (the FAB does not measure it)")
+  fab->add_option("FILE", fa.import.input, "The FAB measurement (.json, .u3m or .u3ma)")->required();
+  fab->add_option("-o,--out", fa.import.output, "The record's folder to create (must not exist)")->required();
+  fab->add_option("--denier", fa.import.denier, "The yarn's linear density, grams per 9,000 m (the FAB does not measure it)")
       ->required()
       ->check(CLI::PositiveNumber);
-  fab->add_option("--id", fa.id, "The record's id (default: the folder's name)");
-  fab->add_option("--family", fa.family, "The record's family (default: the file's category, else 'fab')");
-  fab->add_option("--material", fa.material, "The yarn's material (default: the file's composition)");
-  fab->add_option("--tile", fa.tile, "A periodic yarn tile (.pyp) for a yarn stage, copied into the record");
-  fab->add_option("--knit", fa.knit, "A knit chart to generate the tile from, with the two options below");
-  fab->add_option("--stitch-length-mm", fa.stitch_length_mm, "Stitch length, with --knit")->check(CLI::PositiveNumber);
-  fab->add_option("--yarn-radius-mm", fa.yarn_radius_mm, "Yarn radius, with --knit")->check(CLI::PositiveNumber);
+  fab->add_option("--id", fa.import.id, "The record's id (default: the folder's name)");
+  fab->add_option("--family", fa.import.family, "The record's family (default: the file's category, else 'fab')");
+  fab->add_option("--material", fa.import.material, "The yarn's material (default: the file's composition)");
+  fab->add_option("--tile", fa.import.tile, "A periodic yarn tile (.pyp) for a yarn stage, copied into the record");
+  fab->add_option("--knit", fa.import.knit, "A knit chart to generate the tile from, with the two options below");
+  fab->add_option("--stitch-length-mm", fa.import.stitch_length_mm, "Stitch length, with --knit")->check(CLI::PositiveNumber);
+  fab->add_option("--yarn-radius-mm", fa.import.yarn_radius_mm, "Yarn radius, with --knit")->check(CLI::PositiveNumber);
   fab->add_flag("-q,--quiet", fa.quiet, "Print nothing on success");
   fab->callback([args, &exit_code] { exit_code = run_import_fab(args->fab); });
 }

@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "exports/export_fit.hpp"
 #include "exports/fitted_fabric.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::cli {
 
@@ -28,9 +29,9 @@ int run_export(const ExportArgs& a) {
   r.tile_cache = a.tile_cache;
   try {
     std::cout << exports::export_fit(r).text;
-  } catch (const exports::ExportError& e) {
-    std::cerr << "export: " << e.what() << "\n";
-    return k_exit_invalid_input;
+  } catch (const Error& e) {
+    std::cerr << "export: " << (e.users_to_mend() ? "" : a.out + ": ") << e.what() << "\n";
+    return exit_code_of(e);
   } catch (const std::exception& e) {
     std::cerr << "export: " << a.out << ": " << e.what() << "\n";
     return k_exit_internal;

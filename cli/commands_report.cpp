@@ -7,6 +7,7 @@
 #include "batch/batch_report.hpp"
 #include "batch/ledger.hpp"
 #include "cli/commands.hpp"
+#include "numerics/util/error.hpp"
 #include "reports/report.hpp"
 
 namespace yarnfit::cli {
@@ -27,11 +28,8 @@ int run_report(const ReportArgs& a) {
   for (const auto& dir : a.dirs) {
     try {
       runs.push_back(batch::is_batch_folder(dir) ? batch::read_batch_outputs(dir) : reports::read_fit_folders(dir));
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {  // not a fit or batch folder, or its ledger cannot be read
       std::cerr << e.what() << "\n";
-      bad = true;
-    } catch (const batch::LedgerError& e) {
-      std::cerr << dir << ": " << e.what() << "\n";
       bad = true;
     }
   }

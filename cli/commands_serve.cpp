@@ -5,6 +5,7 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <charconv>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -13,6 +14,7 @@
 
 #include "batch/batch.hpp"
 #include "cli/commands.hpp"
+#include "numerics/util/error.hpp"
 #include "service/accounts/accounts.hpp"
 #include "service/http/fitting_service.hpp"
 
@@ -48,7 +50,7 @@ int with_accounts(const std::string& data_dir, Action action) {
     service::Accounts accounts = open_accounts(data_dir);
     action(accounts);
     return k_exit_ok;
-  } catch (const service::AccountError& e) {
+  } catch (const Error& e) {
     std::cerr << "serve user: " << e.what() << "\n";
   } catch (const fs::filesystem_error& e) {
     std::cerr << "serve user: " << e.what() << "\n";
@@ -69,14 +71,13 @@ int run_serve(const ServeArgs& a) {
   const auto colon = a.listen.rfind(':');
   service::ServiceOptions o;
   o.jobs = a.jobs;
-  try {
-    if (colon == std::string::npos) throw std::invalid_argument("no port");
-    o.host = a.listen.substr(0, colon);
-    o.port = std::stoi(a.listen.substr(colon + 1));
-  } catch (const std::exception&) {
+  const std::string digits = colon == std::string::npos ? std::string() : a.listen.substr(colon + 1);
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), o.port);
+  if (digits.empty() || ec != std::errc() || end != digits.data() + digits.size()) {
     std::cerr << "serve: --listen " << a.listen << ": expected HOST:PORT\n";
     return k_exit_invalid_input;
   }
+  o.host = a.listen.substr(0, colon);
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
@@ -86,7 +87,7 @@ int run_serve(const ServeArgs& a) {
     std::optional<batch::MpiScope> mpi;
     if (a.mpi) {
       mpi.emplace();
-      if (mpi->size() < 2) throw std::runtime_error("--mpi needs at least 2 ranks (rank 0 serves, the others fit): mpirun -np K");
+      if (mpi->size() < 2) throw Error(ErrorCategory::input, "--mpi needs at least 2 ranks (rank 0 serves, the others fit): mpirun -np K");
       if (mpi->rank() != 0) {
         service::run_fit_worker(a.data_dir, o.jobs);
         return k_exit_ok;
@@ -117,6 +118,9 @@ int run_serve(const ServeArgs& a) {
     server.run();
     pthread_kill(stopper.native_handle(), SIGTERM);  // the server stopped first: release the waiter
     stopper.join();
+  } catch (const Error& e) {
+    std::cerr << "serve: " << e.what() << "\n";
+    return exit_code_of(e);
   } catch (const std::exception& e) {
     std::cerr << "serve: " << e.what() << "\n";
     return k_exit_internal;

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "numerics/util/error.hpp"
 
 #ifndef YARNFIT_VERSION
 #define YARNFIT_VERSION "0.0.0"
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Help and version exit 0; a bad command line is invalid input.
     return app.exit(e) == 0 ? k_exit_ok : k_exit_invalid_input;
+  } catch (const yarnfit::Error& e) {  // one a command did not answer itself: its category says whose it is
+    std::cerr << "yarnfit: " << (e.users_to_mend() ? "" : "internal error: ") << e.what() << "\n";
+    return exit_code_of(e);
   } catch (const std::exception& e) {
     std::cerr << "yarnfit: internal error: " << e.what() << "\n";
     return k_exit_internal;

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "numerics/roots/bracketed_root.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/energies/inplane_material.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 
@@ -179,7 +180,7 @@ Eigen::Matrix<double, 24, 1> fit_stretching(const FittedFabric& fabric) {
 
 ArcsimMaterial arcsim_material(const FittedFabric& fabric) {
   if (!fabric.areal_density)
-    throw ExportError(fabric.folder.string() + ": ARCSim needs the areal density: " +
+    throw Error(ErrorCategory::input, fabric.folder.string() + ": ARCSim needs the areal density: " +
                       (fabric.record.empty() ? std::string("give the fabric's record (--record) or --areal-density-gsm")
                                              : fabric.record + " has no areal_density_gsm: give --areal-density-gsm"));
   ArcsimMaterial m;

@@ -43,7 +43,7 @@ struct ArcsimMaterial {
   std::array<std::array<double, 5>, 3> bending{};
 };
 
-// The law of `fabric` sampled for ARCSim. Throws ExportError without an areal density (ARCSim
+// The law of `fabric` sampled for ARCSim. Throws an Error without an areal density (ARCSim
 // requires it: the record gives it).
 [[nodiscard]] ArcsimMaterial arcsim_material(const FittedFabric& fabric);
 

@@ -8,6 +8,7 @@
 #include "exports/strain_table.hpp"
 #include "exports/u3m_material.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::exports {
 
@@ -115,10 +116,10 @@ std::filesystem::path export_path(ExportFormat format, const std::string& fabric
 
 ExportOutcome export_fit(const ExportRequest& request) {
   if (!request.overwrite && std::filesystem::exists(request.out))
-    throw ExportError(request.out.string() + ": exists (use --force to replace it)");
+    throw Error(ErrorCategory::conflict, request.out.string() + ": exists (use --force to replace it)");
   FittedFabric fabric = read_fitted_fabric(request.fit_dir, request.record);
   if (request.areal_density_gsm) {
-    if (!(*request.areal_density_gsm > 0.0)) throw ExportError("areal_density_gsm: must be positive");
+    if (!(*request.areal_density_gsm > 0.0)) throw Error(ErrorCategory::input, "areal_density_gsm: must be positive");
     fabric.areal_density = *request.areal_density_gsm * 1e-3;
   }
   if (request.out.has_parent_path()) std::filesystem::create_directories(request.out.parent_path());

@@ -5,7 +5,7 @@
 //
 //   exports::ExportRequest r{"out/demo", exports::ExportFormat::arcsim, "demo_arcsim.json"};
 //   r.record = "examples/fabrics/stockinette_demo";
-//   std::cout << exports::export_fit(r).text;   // throws exports::ExportError on bad input
+//   std::cout << exports::export_fit(r).text;   // throws an Error on bad input
 
 #include <filesystem>
 #include <optional>
@@ -39,7 +39,7 @@ struct ExportOutcome {
   std::string text;  // what was written and the deviations, for a terminal
 };
 
-// Throws ExportError (exit 2 in the command) for a folder without a usable fit, a record that
+// Throws an Error (exit 2 in the command) for a folder without a usable fit, a record that
 // does not match, a format that lacks what it needs, or an output that exists.
 ExportOutcome export_fit(const ExportRequest& request);
 

@@ -11,6 +11,7 @@
 #include "fabrics_db/records/fabric_hash.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "numerics/roots/bisection.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/targets/uniform_targets.hpp"
 
 namespace yarnfit::exports {
@@ -26,7 +27,7 @@ const std::array<const char*, 3> k_ktheta_names{"ktheta_weft", "ktheta_bias", "k
 double fitted(const results::ShellFitFile& file, const std::string& name, bool required, const fs::path& source) {
   const auto it = file.params.find(name);
   if (it != file.params.end() && it->second) return *it->second;
-  if (required) throw ExportError(source.string() + ": params." + name + ": not fitted");
+  if (required) throw Error(ErrorCategory::input, source.string() + ": params." + name + ": not fitted");
   return 0.0;
 }
 
@@ -43,26 +44,26 @@ shell::ShellParams fitted_params(const results::ShellFitFile& file, const fs::pa
 }  // namespace
 
 FittedFabric read_fitted_fabric(const fs::path& fit_dir, const fs::path& record) {
-  if (!fs::is_directory(fit_dir)) throw ExportError(fit_dir.string() + ": not a folder");
+  if (!fs::is_directory(fit_dir)) throw Error(ErrorCategory::input, fit_dir.string() + ": not a folder");
   const fs::path shell_file = fit_dir / "shell_fit.json";
   const fs::path yarn_file = fit_dir / "yarn_fit.json";
   if (!fs::exists(shell_file)) {
     if (fs::exists(yarn_file))
-      throw ExportError(fit_dir.string() + ": only the yarn stage ran here (no shell_fit.json): the formats are "
+      throw Error(ErrorCategory::input, fit_dir.string() + ": only the yarn stage ran here (no shell_fit.json): the formats are "
                                            "sampled from the fitted shell law; export the folder of a whole fit");
-    throw ExportError(fit_dir.string() + ": no shell_fit.json: not the folder of a fit");
+    throw Error(ErrorCategory::input, fit_dir.string() + ": no shell_fit.json: not the folder of a fit");
   }
   FittedFabric f;
   f.folder = fit_dir;
   try {
     f.shell = results::read_shell_fit_file(shell_file);
   } catch (const std::exception& e) {
-    throw ExportError(e.what());
+    throw Error(ErrorCategory::input, e.what());
   }
   const bool usable = f.shell.converged || f.shell.hit_iteration_cap;
-  if (!usable) throw ExportError(shell_file.string() + ": the shell fit failed: " + f.shell.message);
+  if (!usable) throw Error(ErrorCategory::input, shell_file.string() + ": the shell fit failed: " + f.shell.message);
   const auto model = shell::parse_inplane_model(f.shell.model);
-  if (!model) throw ExportError(shell_file.string() + ": model: " + f.shell.model + ": not a shell model");
+  if (!model) throw Error(ErrorCategory::input, shell_file.string() + ": model: " + f.shell.model + ": not a shell model");
   f.model = *model;
   f.params = fitted_params(f.shell, shell_file);
   if (fs::exists(yarn_file)) {
@@ -70,14 +71,14 @@ FittedFabric read_fitted_fabric(const fs::path& fit_dir, const fs::path& record)
       results::YarnFitFile yarn = results::read_yarn_fit_file(yarn_file);
       if (yarn.ok) f.yarn = std::move(yarn);
     } catch (const std::exception& e) {
-      throw ExportError(e.what());
+      throw Error(ErrorCategory::input, e.what());
     }
   }
   if (!record.empty()) {
     const db::FabricLoad load = db::load_fabric(record);
-    if (!load.ok()) throw ExportError(record.string() + ": the record cannot be read:\n" + load.problems.to_string());
+    if (!load.ok()) throw Error(ErrorCategory::input, record.string() + ": the record cannot be read:\n" + load.problems.to_string());
     if (load.fabric->id != f.shell.fabric)
-      throw ExportError(record.string() + ": the record is " + load.fabric->id + ", the fit is of " + f.shell.fabric);
+      throw Error(ErrorCategory::input, record.string() + ": the record is " + load.fabric->id + ", the fit is of " + f.shell.fabric);
     f.record = record.string();
     f.record_sha256 = db::fabric_hash(load, nullptr);
     f.areal_density = load.fabric->areal_density;

@@ -14,19 +14,13 @@
 #include <Eigen/Core>
 
 #include "fabrics_db/records/fabric.hpp"
+#include "numerics/util/error.hpp"
 #include "results/shell_fit_file.hpp"
 #include "results/yarn_fit_file.hpp"
 #include "shell_fit/core/shell_params.hpp"
 #include "shell_fit/energies/inplane_material.hpp"
 
 namespace yarnfit::exports {
-
-// A folder that cannot be exported: its message names the folder or file and why (a fit that
-// failed says its reason). The command answers it with exit 2.
-class ExportError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct FittedFabric {
   std::filesystem::path folder;
@@ -41,7 +35,7 @@ struct FittedFabric {
 };
 
 // The fit in `fit_dir`; `record` (may be empty) is the fabric's record folder, read for its
-// areal density. Throws ExportError: no such folder, no shell_fit.json (with only yarn_fit.json:
+// areal density. Throws an Error: no such folder, no shell_fit.json (with only yarn_fit.json:
 // the yarn stage ran alone, so there is no shell law to export), a shell fit that failed, a
 // record that cannot be read.
 [[nodiscard]] FittedFabric read_fitted_fabric(const std::filesystem::path& fit_dir,

@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::exports {
 
@@ -23,7 +24,7 @@ constexpr const char* k_physics_file = "physics/physics.json";
 
 std::string uuid4() {
   std::array<unsigned char, 16> b{};
-  if (RAND_bytes(b.data(), static_cast<int>(b.size())) != 1) throw std::runtime_error("OpenSSL RAND_bytes failed");
+  if (RAND_bytes(b.data(), static_cast<int>(b.size())) != 1) throw Error(ErrorCategory::system, "OpenSSL RAND_bytes failed");
   b[6] = static_cast<unsigned char>((b[6] & 0x0f) | 0x40);  // version 4
   b[8] = static_cast<unsigned char>((b[8] & 0x3f) | 0x80);  // variant 10xx
   char s[37];
@@ -150,7 +151,7 @@ la_ssize_t append_to(archive*, void* buffer, const void* data, size_t size) {
 }
 
 void require_ok(archive* a, int status, const std::string& what) {
-  if (status != ARCHIVE_OK) throw std::runtime_error("zip: " + what + ": " + archive_error_string(a));
+  if (status != ARCHIVE_OK) throw Error(ErrorCategory::io, "zip: " + what + ": " + archive_error_string(a));
 }
 
 // A fit made from a FAB record (issue 51) gives its measurement back: the record's physics
@@ -161,10 +162,10 @@ void keep_fab_measurement(const FittedFabric& fabric, nlohmann::json& physics) {
     return;
   const auto& file = fabric.record_fabric->fab_source->file;
   std::string text, why;
-  if (!db::read_text_file(file, text, why)) throw ExportError(file.string() + ": " + why);
+  if (!db::read_text_file(file, text, why)) throw Error(ErrorCategory::input, file.string() + ": " + why);
   const auto source = nlohmann::json::parse(text, nullptr, false);
   if (source.is_discarded() || !source.is_object() || !source.contains("raw_data"))
-    throw ExportError(file.string() + ": not the U3M physics file the record was imported from");
+    throw Error(ErrorCategory::input, file.string() + ": not the U3M physics file the record was imported from");
   physics["raw_data"] = source["raw_data"];
   if (const auto c = source.find("custom"); c != source.end() && c->is_object())
     for (const auto& [key, value] : c->items())
@@ -233,7 +234,7 @@ void write_u3ma(const U3mMaterial& u3m, const std::filesystem::path& file) {
       archive_entry_set_mtime(e.get(), now, 0);
       require_ok(a.get(), archive_write_header(a.get(), e.get()), name);
       if (archive_write_data(a.get(), text.data(), text.size()) != static_cast<la_ssize_t>(text.size()))
-        throw std::runtime_error("zip: " + name + ": " + archive_error_string(a.get()));
+        throw Error(ErrorCategory::io, "zip: " + name + ": " + archive_error_string(a.get()));
     }
     require_ok(a.get(), archive_write_close(a.get()), "close");
   }

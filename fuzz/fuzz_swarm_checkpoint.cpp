@@ -1,8 +1,8 @@
 // A swarm stage's checkpoint (<checkpoint>.<stage>), read against the yarn fit's own
-// five-parameter space: read_checkpoint throws std::runtime_error naming the file and field.
-#include <stdexcept>
+// five-parameter space: read_checkpoint throws yarnfit::Error (numerics/util/error.hpp) naming the file and field.
 
 #include "fuzz/fuzz_support.hpp"
+#include "numerics/util/error.hpp"
 #include "swarm/swarm_state.hpp"
 
 YARNFIT_FUZZ_TARGET(swarm_checkpoint) {
@@ -15,7 +15,7 @@ YARNFIT_FUZZ_TARGET(swarm_checkpoint) {
   const auto file = fuzz::input_file(fuzz::as_text(data, size), "fit_checkpoint.json.all");
   try {
     (void)swarm::detail::read_checkpoint(file, space);
-  } catch (const std::runtime_error&) {
+  } catch (const Error&) {
   }
   return 0;
 }

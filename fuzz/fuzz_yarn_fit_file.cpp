@@ -1,19 +1,8 @@
-// yarn_fit.json as read back by report, export, resume and the service: JSON that does not
-// parse is refused before the reader; the reader throws std::runtime_error naming the file and
-// the field (results/json_fields.hpp). Any other exception is a finding.
-#include <nlohmann/json.hpp>
-#include <stdexcept>
-
-#include "fuzz/fuzz_support.hpp"
+// yarn_fit.json as read back by report, export, resume and the service (fuzz/fuzz_result_json.hpp).
+#include "fuzz/fuzz_result_json.hpp"
 #include "results/yarn_fit_file.hpp"
 
 YARNFIT_FUZZ_TARGET(yarn_fit_file) {
   using namespace yarnfit;
-  const nlohmann::json j = nlohmann::json::parse(fuzz::as_text(data, size), nullptr, false);
-  if (j.is_discarded()) return 0;
-  try {
-    (void)results::yarn_fit_file_from_json(j);
-  } catch (const std::runtime_error&) {
-  }
-  return 0;
+  return fuzz::read_result_json(data, size, [](const nlohmann::json& j) { return results::yarn_fit_file_from_json(j); });
 }

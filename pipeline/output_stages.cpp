@@ -1,6 +1,7 @@
 #include "pipeline/output_stages.hpp"
 
 #include "exports/fitted_fabric.hpp"
+#include "numerics/util/error.hpp"
 #include "reports/report.hpp"
 
 namespace yarnfit::pipeline {
@@ -46,7 +47,8 @@ class ExportStage final : public OutputStage {
         const exports::ExportOutcome written = exports::export_fit(request);
         for (const auto& f : written.files) result.outputs.files.push_back(f.lexically_relative(plan.out).string());
         result.outputs.text += written.text;
-      } catch (const exports::ExportError& e) {
+      } catch (const Error& e) {
+        if (!e.users_to_mend()) throw;  // a file that cannot be written fails the run, as the writer's do
         result.outputs.text += request.out.string() + ": not written: " + e.what() + "\n";
       }
     }

@@ -36,12 +36,12 @@ namespace yarnfit::pipeline {
 // ran: after the shell stage shell_fit.json and uniform_targets.csv, and when its model is
 // usable shell_curves.csv; after the yarn stage yarn_fit.json, yarn_curves.csv and
 // summary.txt (yarn_summary.txt when it ran alone). Nothing for an invalid input. Throws
-// std::runtime_error naming the file that could not be written.
+// an Error naming the file that could not be written.
 PipelineOutputs write_outputs(const PipelineResult& result, const std::filesystem::path& folder);
 
 // A yarn fit's folder (created if needed), as write_outputs writes it after the yarn stage alone:
 // yarn_fit.json, yarn_curves.csv and yarn_summary.txt (reports::yarn_summary_file, naming the
-// fabric and the targets). Returns the yarn summary's text. Throws std::runtime_error naming a
+// fabric and the targets). Returns the yarn summary's text. Throws an Error naming a
 // file it cannot write.
 std::string write_yarn_outputs(const results::YarnFitFile& yarn_fit, const std::filesystem::path& folder);
 

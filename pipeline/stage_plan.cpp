@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "yarn_fit/fit/problem/generated_pattern.hpp"
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "pipeline/fitted_tile.hpp"
@@ -115,8 +116,9 @@ class YarnStage final : public PlanStage {
                                                          result.shape && result.shape->held);
       result.status = result.yarn->ok ? PipelineStatus::ok : PipelineStatus::yarn_failed;
       result.message = result.yarn->ok ? std::string() : "yarn fit failed: " + result.yarn->message;
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       // The settings were checked: the targets cannot be fitted.
+      if (e.category() != ErrorCategory::input) throw;
       const std::string& file = state.options.targets.string();
       result.status = result.shell ? PipelineStatus::yarn_failed : PipelineStatus::invalid_input;
       result.message = (result.shell ? "the shell stage's uniform targets" : file) + ": " + e.what();

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "yarn_fit/fit/synth/synthetic_yarn_fabric.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "numerics/util/clock.hpp"
@@ -30,7 +31,7 @@ void add_bending_samples(const db::PeriodicTile& tile, const yarn::YarnParams& p
                          std::vector<db::DirectionTargets>& samples) {
   yarn::YarnSystem system(yarn::make_yarn_tile(tile), params);
   Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(system.dof_count());
-  if (!yarn::relax_rest_shape(system, g_rest).converged) throw std::runtime_error("synth fabric: the rest shape did not converge");
+  if (!yarn::relax_rest_shape(system, g_rest).converged) throw Error(ErrorCategory::solve, "synth fabric: the rest shape did not converge");
   yarn::EquilibriumOptions solve;
   solve.stress_tolerance = 0.0;  // ground truth: every solve to the force tolerance
   for (const db::Direction dir : o.bending_directions) {
@@ -39,7 +40,7 @@ void add_bending_samples(const db::PeriodicTile& tile, const yarn::YarnParams& p
     yarn::CoarseDeformation chi;
     chi.angle = db::pull_angle(dir);
     const yarn::BendingSample flat = yarn::simulate_bending(bent, chi, g, 0.0, solve);
-    if (!flat.ok) throw std::runtime_error("synth fabric: " + std::string(db::to_string(dir)) + " bending at 0: " + flat.message);
+    if (!flat.ok) throw Error(ErrorCategory::solve, "synth fabric: " + std::string(db::to_string(dir)) + " bending at 0: " + flat.message);
     db::DirectionTargets* t = nullptr;
     for (auto& s : samples)
       if (s.direction == dir) t = &s;
@@ -52,7 +53,7 @@ void add_bending_samples(const db::PeriodicTile& tile, const yarn::YarnParams& p
       chi.curvature = o.max_curvature * j / o.curvature_points;
       const yarn::BendingSample b = yarn::simulate_bending(bent, chi, g, 0.0, solve);
       if (!b.ok)
-        throw std::runtime_error("synth fabric: " + std::string(db::to_string(dir)) + " bending at " +
+        throw Error(ErrorCategory::solve, "synth fabric: " + std::string(db::to_string(dir)) + " bending at " +
                                  format_g(chi.curvature) + " 1/m: " + b.message);
       t->bending.push_back({chi.curvature, b.stress_kappa - flat.stress_kappa});
     }
@@ -75,11 +76,11 @@ SyntheticFabricResult write_synthetic_fabric(const db::PeriodicTile& tile, const
                                              const SyntheticFabricOptions& o, const fs::path& folder, bool overwrite) {
   const auto start = numerics::Clock::now();
   if (fs::exists(folder / "fabric.yaml") && !overwrite)
-    throw std::runtime_error((folder / "fabric.yaml").string() + ": exists; pass --force to replace it");
-  if (o.stretch_directions.empty()) throw std::invalid_argument("synth fabric: no stretch direction");
+    throw Error(ErrorCategory::conflict, (folder / "fabric.yaml").string() + ": exists; pass --force to replace it");
+  if (o.stretch_directions.empty()) throw Error(ErrorCategory::input, "synth fabric: no stretch direction");
   if (!(o.max_curvature > 0.0) || o.curvature_points < 2)
-    throw std::invalid_argument("synth fabric: the bending samples need a positive largest curvature and 2 points");
-  if (!(o.areal_density > 0.0)) throw std::invalid_argument("synth fabric: the areal density must be positive");
+    throw Error(ErrorCategory::input, "synth fabric: the bending samples need a positive largest curvature and 2 points");
+  if (!(o.areal_density > 0.0)) throw Error(ErrorCategory::input, "synth fabric: the areal density must be positive");
   SyntheticFabricResult out;
   // 1. The yarn model's uniform responses.
   yarn::SyntheticYarnOptions yo;
@@ -90,7 +91,7 @@ SyntheticFabricResult write_synthetic_fabric(const db::PeriodicTile& tile, const
   if (!o.bending_directions.empty()) add_bending_samples(tile, params, o, out.samples);
   // 2. Homogenised to the shell law.
   out.law = shell::fit_law_to_samples(out.samples, o.model);
-  if (!out.law.ok) throw std::runtime_error("synth fabric: no shell law reproduces the yarn model: " + out.law.message);
+  if (!out.law.ok) throw Error(ErrorCategory::solve, "synth fabric: no shell law reproduces the yarn model: " + out.law.message);
   // 3. The record's tests with that law.
   shell::SyntheticShellOptions so;
   so.params = out.law.params;

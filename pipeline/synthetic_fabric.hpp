@@ -53,7 +53,7 @@ struct SyntheticFabricResult {
 };
 
 // Writes FOLDER/fabric.yaml, tile.pyp, stretch_<dir>.csv and bend_<dir>.csv. Throws
-// std::invalid_argument for invalid options or parameters, std::runtime_error when a simulation
+// an input Error for invalid options or parameters, an Error when a simulation
 // fails, the law cannot be fitted, or fabric.yaml exists and `overwrite` is false.
 SyntheticFabricResult write_synthetic_fabric(const db::PeriodicTile& tile, const yarn::YarnParams& params,
                                              const SyntheticFabricOptions& options, const std::filesystem::path& folder,

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "results/metrics/error_metrics.hpp"
 #include "numerics/util/non_finite.hpp"
 
@@ -18,7 +19,7 @@ const char* type_name(const json& j) { return j.type_name(); }
 }  // namespace
 
 void Where::bad(const std::string& what) const {
-  throw std::runtime_error(m_file + ": " + (m_path.empty() ? "" : m_path + ": ") + "expected " + what);
+  throw Error(ErrorCategory::input, m_file + ": " + (m_path.empty() ? "" : m_path + ": ") + "expected " + what);
 }
 
 const json* member(const json& j, const char* key) {
@@ -28,6 +29,60 @@ const json* member(const json& j, const char* key) {
 
 void expect_object(const json& j, const Where& at) {
   if (!j.is_object()) at.bad(std::string("an object (found ") + type_name(j) + ")");
+}
+
+const json& object_or_empty(const json& j, const char* key, const Where& at) {
+  static const json empty = json::object();
+  const json* v = member(j, key);
+  if (!v) return empty;
+  expect_object(*v, at / key);
+  return *v;
+}
+
+void FieldReader::operator()(const char* key, double& value, double fallback) const {
+  value = number(m_j, key, m_at, fallback);
+}
+void FieldReader::operator()(const char* key, int& value, int fallback) const {
+  value = integer(m_j, key, m_at, fallback);
+}
+void FieldReader::operator()(const char* key, long long& value, long long fallback) const {
+  value = long_integer(m_j, key, m_at, fallback);
+}
+void FieldReader::operator()(const char* key, std::array<double, 2>& value, const std::array<double, 2>& fallback) const {
+  const std::vector<double> v = numbers(m_j, key, m_at);
+  if (v.empty()) {
+    value = fallback;
+    return;
+  }
+  if (v.size() != 2) (m_at / key).bad("two numbers (weft, warp)");
+  value = {v[0], v[1]};
+}
+void FieldReader::operator()(const char* key, std::vector<double>& value, const std::vector<double>& fallback) const {
+  value = member(m_j, key) ? numbers(m_j, key, m_at) : fallback;
+}
+void FieldReader::operator()(const char* key, std::vector<std::string>& value,
+                             const std::vector<std::string>& fallback) const {
+  value = member(m_j, key) ? strings(m_j, key, m_at) : fallback;
+}
+void FieldReader::operator()(const char* key, std::map<std::string, double>& value,
+                             const std::map<std::string, double>& fallback) const {
+  value = member(m_j, key) ? number_map(m_j, key, m_at) : fallback;
+}
+void FieldReader::operator()(const char* key, std::uint64_t& value, std::uint64_t fallback) const {
+  const json* v = member(m_j, key);
+  if (!v) {
+    value = fallback;
+    return;
+  }
+  if (!v->is_number_unsigned() && !(v->is_number_integer() && v->get<long long>() >= 0))
+    (m_at / key).bad("a non-negative integer");
+  value = v->get<std::uint64_t>();
+}
+void FieldReader::operator()(const char* key, bool& value, bool fallback) const {
+  value = boolean(m_j, key, m_at, fallback);
+}
+void FieldReader::operator()(const char* key, std::string& value, const std::string& fallback) const {
+  value = string(m_j, key, m_at, fallback);
 }
 
 double number(const json& j, const char* key, const Where& at, double fallback) {
@@ -138,9 +193,9 @@ int schema_version(const json& j, const Where& at, int current) {
 
 json read_json_file(const std::filesystem::path& path) {
   std::string text, why;
-  if (!db::read_text_file(path, text, why)) throw std::runtime_error(path.string() + ": " + why);
+  if (!db::read_text_file(path, text, why)) throw Error(ErrorCategory::io, path.string() + ": " + why);
   json j = json::parse(text, nullptr, false);
-  if (j.is_discarded()) throw std::runtime_error(path.string() + ": not JSON");
+  if (j.is_discarded()) throw Error(ErrorCategory::input, path.string() + ": not JSON");
   return j;
 }
 

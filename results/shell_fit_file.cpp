@@ -16,56 +16,63 @@ namespace {
 using numerics::k_nan;
 }  // namespace
 
+namespace {
+
+// The fields of one direction's curves, of one bending curve and of one direction's errors, each
+// with the value a file without it reads as.
+template <class Fields, class Curves>
+void curves_fields(Fields& f, Curves& c) {
+  f("direction", c.direction, std::string("?"));
+  f("fitted_max_stretch", c.fitted_max_stretch, k_nan);
+  f("measured_max_stretch", c.measured_max_stretch, k_nan);
+  f("stretch", c.stretch, std::vector<double>());
+  f("measured_force_N", c.measured_force_N, std::vector<double>());
+  f("simulated_force_N", c.simulated_force_N, std::vector<double>());
+  f("measured_compression", c.measured_compression, std::vector<double>());
+  f("simulated_compression", c.simulated_compression, std::vector<double>());
+}
+
+template <class Fields, class Curve>
+void bending_curve_fields(Fields& f, Curve& c) {
+  f("direction", c.direction, std::string("?"));
+  f("clamp_distance_m", c.clamp_distance_m, std::vector<double>());
+  f("measured_aspect_ratio", c.measured_aspect_ratio, std::vector<double>());
+  f("simulated_aspect_ratio", c.simulated_aspect_ratio, std::vector<double>());
+}
+
+template <class Fields, class Errors>
+void shell_errors_fields(Fields& f, Errors& e) {
+  f("stretch_force_pct", e.stretch_force_pct, k_nan);
+  f("compression_pct", e.compression_pct, k_nan);
+  f("bending_pct", e.bending_pct, k_nan);
+}
+
+}  // namespace
+
 json curves_json(const ShellDirectionCurves& d) {
-  return {{"direction", d.direction},
-          {"fitted_max_stretch", d.fitted_max_stretch},
-          {"measured_max_stretch", d.measured_max_stretch},
-          {"stretch", numbers_json(d.stretch)},
-          {"measured_force_N", numbers_json(d.measured_force_N)},
-          {"simulated_force_N", numbers_json(d.simulated_force_N)},
-          {"measured_compression", numbers_json(d.measured_compression)},
-          {"simulated_compression", numbers_json(d.simulated_compression)}};
+  return fields_json(d, [](auto& f, auto& c) { curves_fields(f, c); });
 }
 
 ShellDirectionCurves read_curves(const json& d, const Where& at) {
-  expect_object(d, at);
-  ShellDirectionCurves c;
-  c.direction = string(d, "direction", at, "?");
-  c.fitted_max_stretch = number(d, "fitted_max_stretch", at, k_nan);
-  c.measured_max_stretch = number(d, "measured_max_stretch", at, k_nan);
-  c.stretch = numbers(d, "stretch", at);
-  c.measured_force_N = numbers(d, "measured_force_N", at);
-  c.simulated_force_N = numbers(d, "simulated_force_N", at);
-  c.measured_compression = numbers(d, "measured_compression", at);
-  c.simulated_compression = numbers(d, "simulated_compression", at);
-  return c;
+  return read_fields<ShellDirectionCurves>(d, at, [](auto& f, auto& c) { curves_fields(f, c); });
 }
 
 json bending_curve_json(const BendingCurve& c) {
-  return {{"direction", c.direction},
-          {"clamp_distance_m", numbers_json(c.clamp_distance_m)},
-          {"measured_aspect_ratio", numbers_json(c.measured_aspect_ratio)},
-          {"simulated_aspect_ratio", numbers_json(c.simulated_aspect_ratio)}};
+  return fields_json(c, [](auto& f, auto& r) { bending_curve_fields(f, r); });
 }
 
 BendingCurve read_bending_curve(const json& c, const Where& w) {
-  expect_object(c, w);
-  return {string(c, "direction", w, "?"), numbers(c, "clamp_distance_m", w), numbers(c, "measured_aspect_ratio", w),
-          numbers(c, "simulated_aspect_ratio", w)};
+  return read_fields<BendingCurve>(c, w, [](auto& f, auto& r) { bending_curve_fields(f, r); });
 }
 
 json direction_errors_json(const std::map<std::string, ShellDirectionErrors>& errors) {
   json j = json::object();
-  for (const auto& [dir, e] : errors)
-    j[dir] = {{"stretch_force_pct", pct_json(e.stretch_force_pct)},
-              {"compression_pct", pct_json(e.compression_pct)},
-              {"bending_pct", pct_json(e.bending_pct)}};
+  for (const auto& [dir, e] : errors) j[dir] = fields_json(e, [](auto& f, auto& r) { shell_errors_fields(f, r); });
   return j;
 }
 
 ShellDirectionErrors read_shell_errors(const json& e, const Where& w) {
-  expect_object(e, w);
-  return {number(e, "stretch_force_pct", w, k_nan), number(e, "compression_pct", w, k_nan), number(e, "bending_pct", w, k_nan)};
+  return read_fields<ShellDirectionErrors>(e, w, [](auto& f, auto& r) { shell_errors_fields(f, r); });
 }
 
 namespace {
@@ -289,9 +296,7 @@ json to_json(const ShellFitFile& f) {
 
 ShellFitFile shell_fit_file_from_json(const json& j, const std::string& source) {
   const Where at(source);
-  expect_object(j, at);
-  ShellFitFile f;
-  f.schema_version = schema_version(j, at, k_shell_fit_schema_version);
+  ShellFitFile f = open_result<ShellFitFile>(j, at, k_shell_fit_schema_version);
   f.fabric = string(j, "fabric", at);
   f.family = string(j, "family", at);
   f.model = string(j, "model", at, "thesis");  // files from before the choice are eq. 6.1

@@ -201,13 +201,13 @@ class Where;  // results/json_fields.hpp
 [[nodiscard]] nlohmann::json to_json(const ShellFitFile& file);
 
 // A shell_fit.json of any version. Fields added since a version default when absent; a field of
-// the wrong type throws std::runtime_error naming it ("shell_fit.json: directions[0].stretch:
+// the wrong type throws an Error naming it ("shell_fit.json: directions[0].stretch:
 // expected …"), as does a file that is not an object or lacks `params`.
 // `source` names the file in messages.
 [[nodiscard]] ShellFitFile shell_fit_file_from_json(const nlohmann::json& json,
                                                    const std::string& source = "shell_fit.json");
 
-// The file at `path`; throws std::runtime_error naming it when it cannot be read or parsed.
+// The file at `path`; throws an Error naming it when it cannot be read or parsed.
 [[nodiscard]] ShellFitFile read_shell_fit_file(const std::filesystem::path& path);
 
 }  // namespace yarnfit::results

@@ -61,7 +61,7 @@ struct WovenTileFile {
 
 [[nodiscard]] nlohmann::json to_json(const TileFile& file);
 [[nodiscard]] nlohmann::json to_json(const WovenTileFile& file);
-// A tile record of any version; a field of the wrong type throws std::runtime_error naming it.
+// A tile record of any version; a field of the wrong type throws an Error naming it.
 [[nodiscard]] TileFile tile_file_from_json(const nlohmann::json& json, const std::string& source = "tile.json");
 [[nodiscard]] TileFile read_tile_file(const std::filesystem::path& path);
 

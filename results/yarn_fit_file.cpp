@@ -17,62 +17,53 @@ namespace {
 
 using numerics::k_nan;
 
-// A member object, or an empty one when absent (its fields then take their defaults).
-const json& object_or_empty(const json& j, const char* key, const Where& at) {
-  static const json empty = json::object();
-  const json* v = member(j, key);
-  if (!v) return empty;
-  expect_object(*v, at / key);
-  return *v;
-}
-
 // ------------------------------------------------------------------------------ errors, curves
 
+// One direction's errors (bending_pct and curl_stress_kappa_N, written only when there are
+// some, are direction_json's and read_direction's own) and one direction's curves.
+template <class Fields, class Errors>
+void direction_fields(Fields& f, Errors& d) {
+  f("stress_comfort_pct", d.stress_comfort_pct, k_nan);
+  f("stress_full_pct", d.stress_full_pct, k_nan);
+  f("compression_pct", d.compression_pct, k_nan);
+  f("comfort_stretch", d.comfort_stretch, k_nan);
+  f("objective", d.objective, k_nan);
+  f("samples", d.samples, 0LL);
+  f("flat_compressions", d.flat_compressions, 0);
+  f("held_compressions", d.held_compressions, 0);
+}
+
+template <class Fields, class Curve>
+void curve_fields(Fields& f, Curve& c) {
+  f("direction", c.direction, std::string("?"));
+  f("stretch", c.stretch, std::vector<double>());
+  f("target_S_N_per_m", c.target_S_N_per_m, std::vector<double>());
+  f("simulated_S_N_per_m", c.simulated_S_N_per_m, std::vector<double>());
+  f("target_compression", c.target_compression, std::vector<double>());
+  f("simulated_compression", c.simulated_compression, std::vector<double>());
+  f("weight", c.weight, std::vector<double>());
+}
+
 json direction_json(const YarnDirectionErrors& d) {
-  json j = {{"stress_comfort_pct", pct_json(d.stress_comfort_pct)},
-            {"stress_full_pct", pct_json(d.stress_full_pct)},
-            {"compression_pct", pct_json(d.compression_pct)},
-            {"comfort_stretch", pct_json(d.comfort_stretch)},
-            {"objective", pct_json(d.objective)},
-            {"samples", d.samples},
-            {"flat_compressions", d.flat_compressions},
-            {"held_compressions", d.held_compressions}};
+  json j = fields_json(d, [](auto& f, auto& r) { direction_fields(f, r); });
   if (d.bending_pct) j["bending_pct"] = pct_json(*d.bending_pct);
   if (d.curl_stress_kappa_N) j["curl_stress_kappa_N"] = pct_json(*d.curl_stress_kappa_N);
   return j;
 }
 
 YarnDirectionErrors read_direction(const json& e, const Where& w) {
-  expect_object(e, w);
-  YarnDirectionErrors d;
-  d.stress_comfort_pct = number(e, "stress_comfort_pct", w, k_nan);
-  d.stress_full_pct = number(e, "stress_full_pct", w, k_nan);
-  d.compression_pct = number(e, "compression_pct", w, k_nan);
-  d.comfort_stretch = number(e, "comfort_stretch", w, k_nan);
-  d.objective = number(e, "objective", w, k_nan);
-  d.samples = long_integer(e, "samples", w, 0);
-  d.flat_compressions = integer(e, "flat_compressions", w, 0);
-  d.held_compressions = integer(e, "held_compressions", w, 0);
+  auto d = read_fields<YarnDirectionErrors>(e, w, [](auto& f, auto& r) { direction_fields(f, r); });
   if (member(e, "bending_pct")) d.bending_pct = number(e, "bending_pct", w, k_nan);
   if (member(e, "curl_stress_kappa_N")) d.curl_stress_kappa_N = number(e, "curl_stress_kappa_N", w, k_nan);
   return d;
 }
 
 json curve_json(const YarnCurve& c) {
-  return {{"direction", c.direction},
-          {"stretch", numbers_json(c.stretch)},
-          {"target_S_N_per_m", numbers_json(c.target_S_N_per_m)},
-          {"simulated_S_N_per_m", numbers_json(c.simulated_S_N_per_m)},
-          {"target_compression", numbers_json(c.target_compression)},
-          {"simulated_compression", numbers_json(c.simulated_compression)},
-          {"weight", numbers_json(c.weight)}};
+  return fields_json(c, [](auto& f, auto& r) { curve_fields(f, r); });
 }
 
 YarnCurve read_curve(const json& c, const Where& w) {
-  return {string(c, "direction", w, "?"),         numbers(c, "stretch", w),
-          numbers(c, "target_S_N_per_m", w),      numbers(c, "simulated_S_N_per_m", w),
-          numbers(c, "target_compression", w),    numbers(c, "simulated_compression", w),
-          numbers(c, "weight", w)};
+  return read_fields<YarnCurve>(c, w, [](auto& f, auto& r) { curve_fields(f, r); });
 }
 
 // ------------------------------------------------------------------------------ identifiability
@@ -118,48 +109,55 @@ Identifiability read_identifiability(const json& p, const Where& at) {
 
 // ------------------------------------------------------------------------------ settings
 
-json stage_settings_json(const SwarmStageSettings& s) {
-  return {{"particles", s.particles}, {"iterations", s.iterations}, {"samples", s.samples}};
+template <class Fields, class Stage>
+void stage_settings_fields(Fields& f, Stage& s) {
+  f("particles", s.particles, 0);
+  f("iterations", s.iterations, 0);
+  f("samples", s.samples, 0);
 }
 
-SwarmStageSettings read_stage_settings(const json& s, const char* key, const Where& at) {
-  const json& v = object_or_empty(s, key, at);
-  const Where w = at / key;
-  return {integer(v, "particles", w, 0), integer(v, "iterations", w, 0), integer(v, "samples", w, 0)};
+// The settings' fields, each with the value a file without it (an older version) reads as.
+// `start`, `resumed_from` and `alternation.rest_difference_step` are written only when there is
+// one: they are settings_json's and read_settings' own.
+template <class Fields, class Settings>
+void settings_fields(Fields& f, Settings& s) {
+  f("global_method", s.global_method, std::string("swarm"));  // the only method before the staged search
+  f.object("staged", [&](auto& staged) {
+    staged.object("contact", [&](auto& c) { stage_settings_fields(c, s.staged_contact); });
+    staged.object("all", [&](auto& a) { stage_settings_fields(a, s.staged_all); });
+    staged("r1_window", s.staged_r1_window, k_nan);
+    staged("rescored", s.staged_rescored, 0);
+    staged("starts", s.staged_starts, 0);
+  });
+  f.object("alternation", [&](auto& a) {
+    a("max_rounds", s.alternation_max_rounds, 0);
+    a("iterations_per_round", s.alternation_iterations_per_round, 0);
+    a("initial_radius", s.alternation_initial_radius, k_nan);
+    a("move_tolerance", s.alternation_move_tolerance, k_nan);
+  });
+  f("particles", s.particles, 0);
+  f("iterations", s.iterations, 0);
+  f("swarm_samples", s.swarm_samples, 0);
+  f("local_samples", s.local_samples, 0);
+  f("local_method", s.local_method, std::string("?"));
+  f("local_evaluations", s.local_evaluations, 0);
+  f("swarm_compression_nodes", s.swarm_compression_nodes, 0);
+  f("local_compression_nodes", s.local_compression_nodes, 0);
+  f("seed", s.seed, std::uint64_t{0});
+  f("swarm", s.swarm, true);
+  f("linear_stretch", s.linear_stretch, false);
+  f("rest_shape", s.rest_shape, true);
+  f("rest_period", s.rest_period, false);
+  f("band_correction", s.band_correction, false);
+  f("bending_points", s.bending_points, 0);
+  f("profile_step", s.profile_step, k_nan);
+  f("swarm_cutoff", s.swarm_cutoff, true);
 }
 
 json settings_json(const YarnFitSettingsRecord& s) {
-  json j = {
-      {"global_method", s.global_method},
-      {"staged",
-       {{"contact", stage_settings_json(s.staged_contact)},
-        {"all", stage_settings_json(s.staged_all)},
-        {"r1_window", s.staged_r1_window},
-        {"rescored", s.staged_rescored},
-        {"starts", s.staged_starts}}},
-      {"alternation",
-       {{"max_rounds", s.alternation_max_rounds},
-        {"iterations_per_round", s.alternation_iterations_per_round},
-        {"initial_radius", s.alternation_initial_radius},
-        {"move_tolerance", s.alternation_move_tolerance}}},
-      {"particles", s.particles},
-      {"iterations", s.iterations},
-      {"swarm_samples", s.swarm_samples},
-      {"local_samples", s.local_samples},
-      {"local_method", s.local_method},
-      {"local_evaluations", s.local_evaluations},
-      {"swarm_compression_nodes", s.swarm_compression_nodes},
-      {"local_compression_nodes", s.local_compression_nodes},
-      {"seed", s.seed},
-      {"swarm", s.swarm},
-      {"linear_stretch", s.linear_stretch},
-      {"rest_shape", s.rest_shape},
-      {"rest_period", s.rest_period},
-      {"band_correction", s.band_correction},
-      {"bending_points", s.bending_points},
-      {"profile_step", s.profile_step},
-      {"swarm_cutoff", s.swarm_cutoff},
-  };
+  json j = json::object();
+  FieldWriter w(j);
+  settings_fields(w, s);
   if (s.start) j["start"] = *s.start;
   if (!s.resumed_from.empty()) j["resumed_from"] = s.resumed_from;
   // Since issue 49; absent (NaN on reading) in older files, which write back as they were.
@@ -170,42 +168,10 @@ json settings_json(const YarnFitSettingsRecord& s) {
 
 YarnFitSettingsRecord read_settings(const json& s, const Where& at) {
   YarnFitSettingsRecord r;
-  r.global_method = string(s, "global_method", at, "swarm");  // the only method before the staged search
-  const json& staged = object_or_empty(s, "staged", at);
-  const Where ws = at / "staged";
-  r.staged_contact = read_stage_settings(staged, "contact", ws);
-  r.staged_all = read_stage_settings(staged, "all", ws);
-  r.staged_r1_window = number(staged, "r1_window", ws, k_nan);
-  r.staged_rescored = integer(staged, "rescored", ws, 0);
-  r.staged_starts = integer(staged, "starts", ws, 0);
-  const json& alternation = object_or_empty(s, "alternation", at);
-  const Where wa = at / "alternation";
-  r.alternation_max_rounds = integer(alternation, "max_rounds", wa, 0);
-  r.alternation_iterations_per_round = integer(alternation, "iterations_per_round", wa, 0);
-  r.alternation_initial_radius = number(alternation, "initial_radius", wa, k_nan);
-  r.alternation_move_tolerance = number(alternation, "move_tolerance", wa, k_nan);
-  r.alternation_rest_difference_step = number(alternation, "rest_difference_step", wa, k_nan);
-  r.particles = integer(s, "particles", at, 0);
-  r.iterations = integer(s, "iterations", at, 0);
-  r.swarm_samples = integer(s, "swarm_samples", at, 0);
-  r.local_samples = integer(s, "local_samples", at, 0);
-  r.local_method = string(s, "local_method", at, "?");
-  r.local_evaluations = integer(s, "local_evaluations", at, 0);
-  r.swarm_compression_nodes = integer(s, "swarm_compression_nodes", at, 0);
-  r.local_compression_nodes = integer(s, "local_compression_nodes", at, 0);
-  if (const json* seed = member(s, "seed")) {
-    if (!seed->is_number_unsigned() && !(seed->is_number_integer() && seed->get<long long>() >= 0))
-      (at / "seed").bad("a non-negative integer");
-    r.seed = seed->get<std::uint64_t>();
-  }
-  r.swarm = boolean(s, "swarm", at, true);
-  r.linear_stretch = boolean(s, "linear_stretch", at, false);
-  r.rest_shape = boolean(s, "rest_shape", at, true);
-  r.rest_period = boolean(s, "rest_period", at, false);
-  r.band_correction = boolean(s, "band_correction", at, false);
-  r.bending_points = integer(s, "bending_points", at, 0);
-  r.profile_step = number(s, "profile_step", at, k_nan);
-  r.swarm_cutoff = boolean(s, "swarm_cutoff", at, true);
+  const FieldReader f(s, at);
+  settings_fields(f, r);
+  r.alternation_rest_difference_step =
+      number(object_or_empty(s, "alternation", at), "rest_difference_step", at / "alternation", k_nan);
   if (member(s, "start")) r.start = number_map(s, "start", at);
   r.resumed_from = string(s, "resumed_from", at);
   return r;
@@ -539,9 +505,7 @@ MeasuredCheckRecord read_measured(const json& j, const json& law, const Where& a
 
 YarnFitFile yarn_fit_file_from_json(const json& j, const std::string& source) {
   const Where at(source);
-  expect_object(j, at);
-  YarnFitFile f;
-  f.schema_version = schema_version(j, at, k_yarn_fit_schema_version);
+  YarnFitFile f = open_result<YarnFitFile>(j, at, k_yarn_fit_schema_version);
   f.fabric = string(j, "fabric", at);
   f.family = string(j, "family", at);
   f.targets = string(j, "targets", at);

@@ -314,13 +314,13 @@ struct YarnFitFile {
 // yarn_fit.json of the current schema version.
 [[nodiscard]] nlohmann::json to_json(const YarnFitFile& file);
 
-// A yarn_fit.json of any version; a field of the wrong type throws std::runtime_error naming it
+// A yarn_fit.json of any version; a field of the wrong type throws an Error naming it
 // ("yarn_fit.json: curves[0].stretch: expected …"), as does a file that is not an object or lacks
 // `params`. `source` names the file in messages.
 [[nodiscard]] YarnFitFile yarn_fit_file_from_json(const nlohmann::json& json,
                                                  const std::string& source = "yarn_fit.json");
 
-// The file at `path`; throws std::runtime_error naming it when it cannot be read or parsed.
+// The file at `path`; throws an Error naming it when it cannot be read or parsed.
 [[nodiscard]] YarnFitFile read_yarn_fit_file(const std::filesystem::path& path);
 
 // `errors_by_direction` as the file holds it (for reports that show it as it is).

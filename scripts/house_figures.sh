@@ -32,3 +32,9 @@ echo "functions over 80 lines (pipeline, shell_fit, yarn_fit, results, numerics/
 echo "pipeline entry points that run a fit: $(grep -hoE '^[A-Za-z:]+Result run_[a-z_]+\(' pipeline/*.hpp | sort -u | wc -l)"
 echo "pipeline stage enums: $(grep -hcE '^enum class Stages?\b' pipeline/*.hpp | paste -sd+ | bc)"
 echo "pipeline result types: $(grep -hcE '^struct (Pipeline|Plan|Fit)Result\b' pipeline/*.hpp | paste -sd+ | bc)"
+
+# One error style: the library's throws of bare standard exceptions for what a user can act on,
+# and the exception classes it defines (numerics/util/error.hpp's Error is meant to be the one).
+libs="fabrics_db shell_fit yarn_fit swarm pipeline batch reports results service exports numerics cli"
+echo "library throws of std::invalid_argument or std::runtime_error: $(grep -rhoE 'throw std::(invalid_argument|runtime_error)\(' $libs | wc -l)"
+echo "exception classes: $(grep -rhE '^class [A-Za-z0-9_]+ : public std::[a-z_]+' $libs | wc -l)"

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "swarm/checkpoint_json.hpp"
+#include "numerics/util/error.hpp"
 #include "swarm/swarm_state.hpp"
 
 #include "numerics/util/whole_file.hpp"
@@ -30,7 +31,7 @@ class Reader {
   explicit Reader(std::filesystem::path path) : m_path(std::move(path)) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& message) const {
-    throw std::runtime_error("checkpoint " + m_path.string() + ": " + field + ": " + message);
+    throw Error(ErrorCategory::input, "checkpoint " + m_path.string() + ": " + field + ": " + message);
   }
 
   const json& at(const json& parent, const std::string& key, const std::string& field) const {
@@ -246,8 +247,8 @@ void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& s
   });
   try {
     numerics::write_file_whole(path, doc.dump(1) + "\n");
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error("checkpoint " + path.string() + ": " + e.what());
+  } catch (const Error& e) {
+    throw with_context("checkpoint " + path.string() + ": ", e);
   }
 }
 

@@ -1,4 +1,5 @@
 #include "swarm/checkpoint_json.hpp"
+#include "numerics/util/error.hpp"
 
 #include <fstream>
 #include <stdexcept>
@@ -12,7 +13,7 @@ nlohmann::json checkpoint_preamble(const CheckpointKind& kind) {
 
 nlohmann::json read_checkpoint_json(const std::filesystem::path& path, const CheckpointKind& kind) {
   const auto fail = [&](const std::string& reason) {
-    throw std::runtime_error(std::string(kind.label) + " " + path.string() + ": " + reason);
+    throw Error(ErrorCategory::input, std::string(kind.label) + " " + path.string() + ": " + reason);
   };
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("cannot open");

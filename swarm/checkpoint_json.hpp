@@ -25,7 +25,7 @@ struct CheckpointKind {
 // {"format": kind.format, "version": kind.version}: the object a checkpoint's fields join.
 [[nodiscard]] nlohmann::json checkpoint_preamble(const CheckpointKind& kind);
 
-// The JSON of the checkpoint `path`, its preamble checked. Throws std::runtime_error
+// The JSON of the checkpoint `path`, its preamble checked. Throws an Error
 // "LABEL PATH: REASON" when the file cannot be opened, is not JSON, or is not an object of
 // this kind's format and version.
 [[nodiscard]] nlohmann::json read_checkpoint_json(const std::filesystem::path& path, const CheckpointKind& kind);

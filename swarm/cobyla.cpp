@@ -1,4 +1,5 @@
 #include "swarm/cobyla.hpp"
+#include "numerics/util/error.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -10,12 +11,12 @@ CobylaSummary run_cobyla(const ParameterSpace& space, const Objective& objective
   numerics::Problems problems = settings.problems();
   if (!(settings.initial_step <= 1.0)) problems.add_field("initial_step", "must be in (0, 1] (fraction of the range)");
   if (!(settings.x_tolerance < 1.0)) problems.add_field("x_tolerance", "must be in [0, 1)");
-  if (!problems.empty()) throw std::invalid_argument("cobyla settings: " + problems.one_line());
+  if (!problems.empty()) throw Error(ErrorCategory::input, "cobyla settings: " + problems.one_line());
   Eigen::VectorXd u;
   try {
     u = space.to_unit(start);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("cobyla start: ") + e.what());
+  } catch (const Error& e) {
+    throw with_context("cobyla start: ", e);
   }
   const int n = space.dimension();
   const Objective in_unit_cube = [&](const Eigen::VectorXd& unit) { return objective(space.from_unit(unit)); };

@@ -19,7 +19,7 @@ using numerics::is_converged;
 using numerics::to_string;
 
 // Minimises objective from `start` (caller's coordinates, inside the bounds); best point and
-// failures are reported in the caller's coordinates. Throws std::invalid_argument for invalid
+// failures are reported in the caller's coordinates. Throws an input Error for invalid
 // settings (initial_step in (0, 1], x_tolerance in [0, 1): fractions of the ranges) or a start
 // outside the bounds; failed evaluations and NLopt failures are reported in the summary.
 [[nodiscard]] CobylaSummary run_cobyla(const ParameterSpace& space, const Objective& objective,

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::swarm {
@@ -34,11 +35,11 @@ Point evaluate_at(const ParameterSpace& space, const ResidualObjective& f, const
   p.u = u;
   p.outcome = evaluate_guarded([&] {
     Eigen::VectorXd r = f(space.from_unit(u));
-    if (r.size() == 0) throw std::runtime_error("the residual vector is empty");
+    if (r.size() == 0) throw Error(ErrorCategory::solve, "the residual vector is empty");
     if (expected >= 0 && r.size() != expected)
-      throw std::runtime_error("the residual vector has " + std::to_string(r.size()) + " entries, the start's had " +
+      throw Error(ErrorCategory::solve, "the residual vector has " + std::to_string(r.size()) + " entries, the start's had " +
                                std::to_string(expected));
-    if (!r.allFinite()) throw std::runtime_error("a residual is not finite");
+    if (!r.allFinite()) throw Error(ErrorCategory::solve, "a residual is not finite");
     p.r = std::move(r);
     return p.r.squaredNorm();
   });
@@ -102,12 +103,12 @@ ImplicitFilteringSummary run_implicit_filtering(const ParameterSpace& space, con
                                                 const ImplicitFilteringSettings& settings,
                                                 const ImplicitFilteringProgress& progress) {
   if (const numerics::Problems problems = settings.problems(); !problems.empty())
-    throw std::invalid_argument("implicit filtering settings: " + problems.one_line());
+    throw Error(ErrorCategory::input, "implicit filtering settings: " + problems.one_line());
   Eigen::VectorXd u;
   try {
     u = space.to_unit(start);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("implicit filtering start: ") + e.what());
+  } catch (const Error& e) {
+    throw with_context("implicit filtering start: ", e);
   }
   const auto t0 = Clock::now();
   const auto elapsed = [&] { return numerics::seconds_since(t0); };

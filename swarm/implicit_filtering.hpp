@@ -107,7 +107,7 @@ struct ImplicitFilteringSummary {
 using ImplicitFilteringProgress = std::function<void(const ImplicitFilteringSummary&)>;
 
 // Minimises |r|² from `start` (caller's coordinates, inside the bounds). Throws
-// std::invalid_argument for invalid settings or a start outside the bounds; failed
+// an input Error for invalid settings or a start outside the bounds; failed
 // evaluations are reported in the summary, never thrown.
 [[nodiscard]] ImplicitFilteringSummary run_implicit_filtering(const ParameterSpace& space,
                                                               const ResidualObjective& residuals,

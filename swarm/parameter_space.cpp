@@ -1,4 +1,5 @@
 #include "swarm/parameter_space.hpp"
+#include "numerics/util/error.hpp"
 
 #include <algorithm>
 #include <array>
@@ -20,26 +21,26 @@ std::string number(double v) {
 }  // namespace
 
 ParameterSpace::ParameterSpace(std::vector<Parameter> parameters) : m_parameters(std::move(parameters)) {
-  if (m_parameters.empty()) throw std::invalid_argument("parameter space: no parameters");
+  if (m_parameters.empty()) throw Error(ErrorCategory::input, "parameter space: no parameters");
   for (int i = 0; i < dimension(); ++i) {
     auto& p = m_parameters[static_cast<std::size_t>(i)];
     if (p.name.empty()) p.name = "x[" + std::to_string(i) + "]";
     const std::string where = "parameter space: " + label(i) + ": ";
-    if (!std::isfinite(p.lower)) throw std::invalid_argument(where + "lower is not finite (" + number(p.lower) + ")");
-    if (!std::isfinite(p.upper)) throw std::invalid_argument(where + "upper is not finite (" + number(p.upper) + ")");
+    if (!std::isfinite(p.lower)) throw Error(ErrorCategory::input, where + "lower is not finite (" + number(p.lower) + ")");
+    if (!std::isfinite(p.upper)) throw Error(ErrorCategory::input, where + "upper is not finite (" + number(p.upper) + ")");
     if (!(p.lower < p.upper)) {
-      throw std::invalid_argument(where + "lower (" + number(p.lower) + ") must be below upper (" +
+      throw Error(ErrorCategory::input, where + "lower (" + number(p.lower) + ") must be below upper (" +
                                   number(p.upper) + ")");
     }
     if (p.log_space && !(p.lower > 0.0)) {
-      throw std::invalid_argument(where + "log_space needs lower > 0 (lower is " + number(p.lower) + ")");
+      throw Error(ErrorCategory::input, where + "log_space needs lower > 0 (lower is " + number(p.lower) + ")");
     }
   }
 }
 
 ParameterSpace ParameterSpace::box(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper) {
   if (lower.size() != upper.size()) {
-    throw std::invalid_argument("parameter space: lower has " + std::to_string(lower.size()) +
+    throw Error(ErrorCategory::input, "parameter space: lower has " + std::to_string(lower.size()) +
                                 " entries but upper has " + std::to_string(upper.size()));
   }
   std::vector<Parameter> ps;
@@ -53,7 +54,7 @@ std::string ParameterSpace::label(int i) const {
 
 void ParameterSpace::check_size(const Eigen::VectorXd& v, const char* what) const {
   if (v.size() != dimension()) {
-    throw std::invalid_argument(std::string(what) + " has " + std::to_string(v.size()) +
+    throw Error(ErrorCategory::input, std::string(what) + " has " + std::to_string(v.size()) +
                                 " entries, the parameter space " + std::to_string(dimension()));
   }
 }
@@ -64,7 +65,7 @@ Eigen::VectorXd ParameterSpace::to_unit(const Eigen::VectorXd& x) const {
   for (int i = 0; i < dimension(); ++i) {
     const auto& p = parameter(i);
     if (!(x[i] >= p.lower && x[i] <= p.upper)) {
-      throw std::invalid_argument(label(i) + " = " + number(x[i]) + " is outside its bounds [" + number(p.lower) +
+      throw Error(ErrorCategory::input, label(i) + " = " + number(x[i]) + " is outside its bounds [" + number(p.lower) +
                                   ", " + number(p.upper) + "]");
     }
     u[i] = p.log_space ? std::log(x[i] / p.lower) / std::log(p.upper / p.lower)

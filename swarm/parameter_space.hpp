@@ -24,7 +24,7 @@ struct Parameter {
 
 class ParameterSpace {
  public:
-  // Throws std::invalid_argument naming the parameter and the field when a bound is not
+  // Throws an input Error naming the parameter and the field when a bound is not
   // finite, lower ≥ upper, or a log-space parameter has lower ≤ 0.
   explicit ParameterSpace(std::vector<Parameter> parameters);
 
@@ -37,18 +37,18 @@ class ParameterSpace {
   // "'kb' (parameter 2)" — how error messages refer to parameter i.
   [[nodiscard]] std::string label(int i) const;
 
-  // Caller's coordinates → unit cube. Throws std::invalid_argument naming the parameter when
+  // Caller's coordinates → unit cube. Throws an input Error naming the parameter when
   // x has the wrong size, is not finite or lies outside the bounds.
   [[nodiscard]] Eigen::VectorXd to_unit(const Eigen::VectorXd& x) const;
   // Unit cube → caller's coordinates. u is clamped to [0, 1] first and the result to the
   // bounds (exp/log round-off must not step outside), so u = 0 and 1 give the bounds exactly.
-  // Throws std::invalid_argument when u has the wrong size.
+  // Throws an input Error when u has the wrong size.
   [[nodiscard]] Eigen::VectorXd from_unit(const Eigen::VectorXd& u) const;
 
   [[nodiscard]] bool contains(const Eigen::VectorXd& x) const;
   // One line per coordinate of x outside its bounds, "NAME: V is outside the search bounds
   // [LO, HI]" (NAME as given, x[i] when empty); empty when x lies inside. x must have the
-  // space's size (std::invalid_argument otherwise).
+  // space's size (an input Error otherwise).
   [[nodiscard]] std::vector<std::string> bounds_problems(const Eigen::VectorXd& x) const;
   [[nodiscard]] bool operator==(const ParameterSpace& other) const;
 

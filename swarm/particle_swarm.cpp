@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "swarm/random.hpp"
 #include "swarm/swarm_state.hpp"
 #include "numerics/util/non_finite.hpp"
@@ -53,8 +54,8 @@ detail::SwarmState start_state(const ParameterSpace& space, const SwarmSettings&
   for (std::size_t k = 0; k < s.initial_points.size(); ++k) {
     try {
       st.position.col(static_cast<Eigen::Index>(k)) = space.to_unit(s.initial_points[k]);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("swarm settings: initial_points[" + std::to_string(k) + "]: " + e.what());
+    } catch (const Error& e) {
+      throw with_context("swarm settings: initial_points[" + std::to_string(k) + "]: ", e);
     }
   }
   st.best_position = st.position;
@@ -187,8 +188,8 @@ void evaluate(detail::SwarmState& st, const ParameterSpace& space, const Particl
 // Runs the remaining iterations of `st`.
 SwarmSummary continue_run(detail::SwarmState st, const ParameterSpace& space, const ParticleObjective& objective,
                           const SwarmRunOptions& options, const std::filesystem::path& checkpoint) {
-  if (options.threads < 0) throw std::invalid_argument("swarm run options: threads must be ≥ 0");
-  if (options.max_failures_kept < 0) throw std::invalid_argument("swarm run options: max_failures_kept must be ≥ 0");
+  if (options.threads < 0) throw Error(ErrorCategory::input, "swarm run options: threads must be ≥ 0");
+  if (options.max_failures_kept < 0) throw Error(ErrorCategory::input, "swarm run options: max_failures_kept must be ≥ 0");
   RandomStream rng(0);
   rng.restore(st.random_state);
   const auto run_start = Clock::now();
@@ -281,7 +282,7 @@ std::string SwarmSummary::brief_report() const {
 SwarmSummary run_swarm(const ParameterSpace& space, const ParticleObjective& objective, const SwarmSettings& settings,
                        const SwarmRunOptions& options) {
   if (const numerics::Problems problems = settings.problems(); !problems.empty())
-    throw std::invalid_argument("swarm settings: " + problems.one_line());
+    throw Error(ErrorCategory::input, "swarm settings: " + problems.one_line());
   RandomStream rng(settings.seed);
   return continue_run(start_state(space, settings, rng), space, objective, options, options.checkpoint);
 }
@@ -296,8 +297,8 @@ SwarmSummary resume_swarm(const std::filesystem::path& checkpoint, const Paramet
   detail::SwarmState st = detail::read_checkpoint(checkpoint, space);
   try {
     RandomStream(0).restore(st.random_state);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error("checkpoint " + checkpoint.string() + ": random_state: " + e.what());
+  } catch (const Error& e) {
+    throw with_context("checkpoint " + checkpoint.string() + ": random_state: ", e);
   }
   return continue_run(std::move(st), space, objective, options,
                       options.checkpoint.empty() ? checkpoint : options.checkpoint);

@@ -153,15 +153,15 @@ struct SwarmSummary {
   [[nodiscard]] std::string brief_report() const;
 };
 
-// Throws std::invalid_argument for invalid settings or initial points (naming the field)
-// and std::runtime_error when a checkpoint cannot be written. Failed evaluations never throw.
+// Throws an input Error for invalid settings or initial points (naming the field)
+// and an Error when a checkpoint cannot be written. Failed evaluations never throw.
 [[nodiscard]] SwarmSummary run_swarm(const ParameterSpace& space, const ParticleObjective& objective,
                                      const SwarmSettings& settings, const SwarmRunOptions& options = {});
 [[nodiscard]] SwarmSummary run_swarm(const ParameterSpace& space, const Objective& objective,
                                      const SwarmSettings& settings, const SwarmRunOptions& options = {});
 
 // Continues the run saved in `checkpoint` (settings come from the file). The space must be
-// the one the run was started with. Throws std::runtime_error naming the file and the field
+// the one the run was started with. Throws an Error naming the file and the field
 // when it cannot be read or does not match. A checkpoint of a finished run returns its
 // summary without evaluating.
 [[nodiscard]] SwarmSummary resume_swarm(const std::filesystem::path& checkpoint, const ParameterSpace& space,

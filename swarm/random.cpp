@@ -1,4 +1,5 @@
 #include "swarm/random.hpp"
+#include "numerics/util/error.hpp"
 
 #include <cassert>
 #include <limits>
@@ -34,9 +35,9 @@ void RandomStream::restore(const std::string& text) {
   in.imbue(std::locale::classic());
   std::mt19937_64 engine;
   in >> engine;
-  if (in.fail()) throw std::invalid_argument("random state: not an mt19937_64 state");
+  if (in.fail()) throw Error(ErrorCategory::input, "random state: not an mt19937_64 state");
   in >> std::ws;
-  if (!in.eof()) throw std::invalid_argument("random state: unexpected text after the mt19937_64 state");
+  if (!in.eof()) throw Error(ErrorCategory::input, "random state: unexpected text after the mt19937_64 state");
   m_engine = engine;
 }
 

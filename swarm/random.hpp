@@ -26,7 +26,7 @@ class RandomStream {
   [[nodiscard]] std::uint64_t index(std::uint64_t n);
 
   // The engine's full state as text (the standard's format), and its inverse. restore
-  // throws std::invalid_argument when the text is not an mt19937_64 state.
+  // throws an input Error when the text is not an mt19937_64 state.
   [[nodiscard]] std::string state() const;
   void restore(const std::string& text);
 

@@ -28,10 +28,10 @@ struct SwarmState {
 };
 
 // Writes the state to `path` through a temporary file in the same folder renamed over it
-// (atomic on POSIX), so a reader never sees half a file. Throws std::runtime_error.
+// (atomic on POSIX), so a reader never sees half a file. Throws an Error.
 void write_checkpoint(const std::filesystem::path& path, const ParameterSpace& space, const SwarmState& state);
 
-// Reads a checkpoint written by write_checkpoint for this space. Throws std::runtime_error
+// Reads a checkpoint written by write_checkpoint for this space. Throws an Error
 // naming the file and the field (missing, wrong type, wrong size, other space).
 [[nodiscard]] SwarmState read_checkpoint(const std::filesystem::path& path, const ParameterSpace& space);
 

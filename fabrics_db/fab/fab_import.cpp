@@ -18,6 +18,7 @@
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/records/units.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -172,7 +173,7 @@ bool valid_record_id(const std::string& id) {
 // Moves the staged folder into place unless something took the name meanwhile.
 void rename_no_replace(const fs::path& from, const fs::path& to) {
   if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) != 0)
-    throw std::runtime_error(std::string("cannot move the record into place: ") + std::strerror(errno));
+    throw Error(ErrorCategory::io, std::string("cannot move the record into place: ") + std::strerror(errno));
 }
 
 FabImportResult import_fab(const FabImportOptions& options) {

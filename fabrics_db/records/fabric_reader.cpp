@@ -11,6 +11,7 @@
 
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/records/units.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -301,7 +302,7 @@ void read_pattern(YamlChecker& y, const YAML::Node& doc, Fabric& fabric, Problem
   // such as edges spanning thousands of periods, is an input problem, not a crash later.
   try {
     ref.facts = compute_tile_facts(*tile);
-  } catch (const std::invalid_argument& e) {
+  } catch (const Error& e) {
     y.problem(YamlChecker::find(node, "file").first, "pattern.file",
               "pattern '" + node["file"].Scalar() + "' has an impossible geometry: " + e.what());
     return;

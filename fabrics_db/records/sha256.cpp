@@ -1,4 +1,5 @@
 #include "fabrics_db/records/sha256.hpp"
+#include "numerics/util/error.hpp"
 
 #include <openssl/err.h>
 #include <openssl/evp.h>
@@ -9,7 +10,7 @@ namespace yarnfit::db {
 
 namespace {
 
-// Sha256Error naming the failed step, with OpenSSL's queued reasons (oldest first) appended.
+// an Error naming the failed step, with OpenSSL's queued reasons (oldest first) appended.
 [[noreturn]] void fail(const std::string& step) {
   std::string message = "SHA-256 (OpenSSL): " + step + " failed";
   while (const unsigned long code = ERR_get_error()) {
@@ -17,7 +18,7 @@ namespace {
     ERR_error_string_n(code, text.data(), text.size());
     message += std::string(": ") + text.data();
   }
-  throw Sha256Error(message);
+  throw Error(ErrorCategory::system, message);
 }
 
 }  // namespace
@@ -30,17 +31,17 @@ Sha256::Sha256() : m_ctx(EVP_MD_CTX_new()) {
 }
 
 void Sha256::update(std::string_view bytes) {
-  if (m_finished) throw Sha256Error("SHA-256: update after hex_digest");
+  if (m_finished) throw Error(ErrorCategory::system, "SHA-256: update after hex_digest");
   if (EVP_DigestUpdate(m_ctx.get(), bytes.data(), bytes.size()) != 1) fail("EVP_DigestUpdate");
 }
 
 std::string Sha256::hex_digest() {
-  if (m_finished) throw Sha256Error("SHA-256: hex_digest called twice");
+  if (m_finished) throw Error(ErrorCategory::system, "SHA-256: hex_digest called twice");
   std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
   unsigned int size = 0;
   if (EVP_DigestFinal_ex(m_ctx.get(), digest.data(), &size) != 1) fail("EVP_DigestFinal_ex");
   m_finished = true;
-  if (size != 32) throw Sha256Error("SHA-256 (OpenSSL): digest of " + std::to_string(size) + " bytes, not 32");
+  if (size != 32) throw Error(ErrorCategory::system, "SHA-256 (OpenSSL): digest of " + std::to_string(size) + " bytes, not 32");
   constexpr char k_hex[] = "0123456789abcdef";
   std::string hex;
   hex.reserve(2 * size);

@@ -8,23 +8,18 @@
 #include <string>
 #include <string_view>
 
+#include "numerics/util/error.hpp"
+
 struct evp_md_ctx_st;  // OpenSSL's EVP_MD_CTX, kept out of the includers of this header
 
 namespace yarnfit::db {
-
-// Thrown when OpenSSL fails (out of memory, a digest used after hex_digest); the message names
-// the step and carries OpenSSL's own reason.
-class Sha256Error : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 class Sha256 {
  public:
   Sha256();
   void update(std::string_view bytes);
   // The digest as 64 lower-case hex digits; the object must not be updated afterwards (that,
-  // or a second call, throws Sha256Error).
+  // or a second call, throws an Error).
   [[nodiscard]] std::string hex_digest();
 
  private:

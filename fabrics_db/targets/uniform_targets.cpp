@@ -7,6 +7,7 @@
 
 #include "fabrics_db/csv/csv_table.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 
@@ -163,7 +164,7 @@ std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::fil
 std::vector<DirectionTargets> read_uniform_targets(const std::filesystem::path& file) {
   Problems problems;
   auto targets = read_uniform_targets(file, problems);
-  if (!targets) throw std::invalid_argument(problems.to_string());
+  if (!targets) throw Error(ErrorCategory::input, problems.to_string());
   return std::move(*targets);
 }
 

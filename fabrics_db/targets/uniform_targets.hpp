@@ -45,7 +45,7 @@ struct DirectionTargets {
 
 // The text of uniform_targets.csv for these targets.
 std::string uniform_targets_csv(const std::vector<DirectionTargets>& targets);
-// Writes that text to `file` atomically. Throws std::runtime_error naming the file.
+// Writes that text to `file` atomically. Throws an Error naming the file.
 void write_uniform_targets_csv(const std::vector<DirectionTargets>& targets, const std::filesystem::path& file);
 
 // The targets as uniform_targets.csv holds them: every number rounded to the file's 10
@@ -62,7 +62,7 @@ std::vector<DirectionTargets> as_stored(const std::vector<DirectionTargets>& tar
 std::optional<std::vector<DirectionTargets>> read_uniform_targets(const std::filesystem::path& file,
                                                                  Problems& problems);
 
-// As above; throws std::invalid_argument whose what() lists every problem, one per line.
+// As above; throws an input Error whose what() lists every problem, one per line.
 std::vector<DirectionTargets> read_uniform_targets(const std::filesystem::path& file);
 
 // The targets of `direction`, or nullptr.

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "numerics/roots/bisection.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -102,8 +103,8 @@ Problems KnitTileOptions::problems() const {
 
 KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) {
   if (const Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("make_knit_tile: " + problems.one_line());
-  if (chart.courses() == 0 || chart.wales() == 0) throw std::invalid_argument("make_knit_tile: empty chart");
+    throw Error(ErrorCategory::input, "make_knit_tile: " + problems.one_line());
+  if (chart.courses() == 0 || chart.wales() == 0) throw Error(ErrorCategory::input, "make_knit_tile: empty chart");
   const int n = options.vertices_per_stitch;
   const double length = options.stitch_length;
   double gap = 2.0 * options.depth * options.yarn_radius;
@@ -130,7 +131,7 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
     shortest = mean_length(1e-9 * length);
   }
   if (!(length > shortest * (1.0 + 1e-6)))
-    throw std::invalid_argument("make_knit_tile: a stitch length of " + std::to_string(length * 1e3) +
+    throw Error(ErrorCategory::input, "make_knit_tile: a stitch length of " + std::to_string(length * 1e3) +
                                 " mm is too short for loops whose crossings are " + std::to_string(gap * 1e3) +
                                 " mm apart (2 x yarn radius x depth): it needs more than " +
                                 std::to_string(shortest * 1e3) + " mm");
@@ -145,7 +146,7 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
     h = options.overlap_ratio * p;
     const double shortest_here = held(0.5 * p, 0.0), longest_here = held(3.0 * p, 0.5 * w);
     if (!(length > shortest_here) || !(length < longest_here))
-      throw std::invalid_argument("make_knit_tile: loops " + std::to_string(length * 1e3) + " mm long do not fit a period of " +
+      throw Error(ErrorCategory::input, "make_knit_tile: loops " + std::to_string(length * 1e3) + " mm long do not fit a period of " +
                                   std::to_string(w * 1e3) + " x " + std::to_string(p * 1e3) +
                                   " mm per stitch (they can be " + std::to_string(shortest_here * 1e3) + " to " +
                                   std::to_string(longest_here * 1e3) + " mm): check the gauge against the stitch length");

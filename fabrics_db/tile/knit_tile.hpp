@@ -73,7 +73,7 @@ struct KnitTile {
   double min_distance = 0.0;    // smallest centreline distance between contact candidates [m]
 };
 
-// Throws std::invalid_argument for bad options, or when L is too short to form loops even with
+// Throws an input Error for bad options, or when L is too short to form loops even with
 // crossings R/2 apart (the message gives the shortest L).
 KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options);
 

@@ -77,8 +77,8 @@ std::optional<PeriodicTile> parse_pyp(const std::string& text, const std::string
 // Writes `tile` in pyp layout with `significant_digits` digits per value ("%.*g"; 17
 // reproduces every double exactly): every section in the order and with the header comments
 // of the HYLC files, a blank line after each. write_pyp replaces `file` through a temporary
-// file in the same folder and a rename, and throws std::runtime_error naming the file if it
-// cannot be written. Both throw std::invalid_argument if the tile's arrays disagree in size
+// file in the same folder and a rename, and throws an Error naming the file if it
+// cannot be written. Both throw an input Error if the tile's arrays disagree in size
 // or significant_digits < 1.
 void write_pyp(const PeriodicTile& tile, const std::filesystem::path& file,
                int significant_digits = 17);
@@ -120,7 +120,7 @@ struct TileFacts {
   std::vector<double> segment_contact_distances;  // D_a per edge, #E [m]
 };
 
-// Throws std::invalid_argument for a tile that is not closed loops (see read_pyp) or whose
+// Throws an input Error for a tile that is not closed loops (see read_pyp) or whose
 // edges span so many periods that the contact search would not end in reasonable time.
 TileFacts compute_tile_facts(const PeriodicTile& tile);
 

@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -641,13 +642,13 @@ std::optional<PeriodicTile> read_pyp(const std::filesystem::path& file, Problems
 
 std::string format_pyp(const PeriodicTile& tile, int significant_digits) {
   if (significant_digits < 1) {
-    throw std::invalid_argument("format_pyp: significant_digits must be at least 1, got " +
+    throw Error(ErrorCategory::input, "format_pyp: significant_digits must be at least 1, got " +
                                 std::to_string(significant_digits));
   }
   const std::size_t n = tile.positions.size();
   const auto check = [&](std::size_t size, const char* what) {
     if (size != n) {
-      throw std::invalid_argument(std::string("format_pyp: tile has ") + std::to_string(n) +
+      throw Error(ErrorCategory::input, std::string("format_pyp: tile has ") + std::to_string(n) +
                                   " vertices but " + std::to_string(size) + " entries in " + what);
     }
   };

@@ -1,5 +1,6 @@
 // The synthetic stockinette tile; the curve and its reasons are in the header.
 #include "fabrics_db/tile/synthetic_stockinette.hpp"
+#include "numerics/util/error.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -24,7 +25,7 @@ Problems StockinetteTileOptions::problems() const {
 
 PeriodicTile make_stockinette_tile(const StockinetteTileOptions& options) {
   if (const Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("make_stockinette_tile: " + problems.one_line());
+    throw Error(ErrorCategory::input, "make_stockinette_tile: " + problems.one_line());
   const int n = options.vertices_per_loop;
   const double px = options.period_x;
   const double a = options.bulge * px;

@@ -42,7 +42,7 @@ struct StockinetteTileOptions {
   [[nodiscard]] Problems problems() const;
 };
 
-// Throws std::invalid_argument with `options.problems()` if there are any.
+// Throws an input Error with `options.problems()` if there are any.
 PeriodicTile make_stockinette_tile(const StockinetteTileOptions& options = {});
 
 }  // namespace yarnfit::db

@@ -8,6 +8,7 @@
 
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "numerics/geometry/segment_distance.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -41,7 +42,7 @@ struct Segment {
 
 void check_tile(const PeriodicTile& tile) {
   const auto fail = [](const std::string& why) {
-    throw std::invalid_argument("compute_tile_facts: " + why);
+    throw Error(ErrorCategory::input, "compute_tile_facts: " + why);
   };
   const std::size_t n = tile.positions.size();
   if (n == 0) fail("tile has no vertices");
@@ -234,7 +235,7 @@ TileFacts compute_tile_facts(const PeriodicTile& tile) {
       const double jhi = std::floor((a.hi[1] - b.lo[1] + best) / tile.period_y);
       if (ihi < ilo || jhi < jlo) continue;
       if ((ihi - ilo + 1) * (jhi - jlo + 1) > max_copies_per_pair) {
-        throw std::invalid_argument(
+        throw Error(ErrorCategory::input, 
             "compute_tile_facts: edges " + std::to_string(ia) + " and " + std::to_string(ib) +
             " would need more than " + std::to_string(static_cast<long>(max_copies_per_pair)) +
             " periodic copies checked; the tile's edges span far more than its periods (" +

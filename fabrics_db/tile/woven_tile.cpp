@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "fabrics_db/tile/chart_rows.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -112,8 +113,8 @@ Problems WovenTileOptions::problems() const {
 
 PeriodicTile make_woven_tile(const WeaveChart& chart, const WovenTileOptions& options) {
   if (const Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("make_woven_tile: " + problems.one_line());
-  if (chart.wefts() == 0 || chart.warps() == 0) throw std::invalid_argument("make_woven_tile: empty chart");
+    throw Error(ErrorCategory::input, "make_woven_tile: " + problems.one_line());
+  if (chart.wefts() == 0 || chart.warps() == 0) throw Error(ErrorCategory::input, "make_woven_tile: empty chart");
   const double s = options.yarn_spacing;
   const int n = options.vertices_per_crossing;
   const double half_gap = options.depth * options.yarn_radius;

@@ -64,7 +64,7 @@ struct WovenTileOptions {
 };
 
 // The tile, yarns in the order: the wefts (lowest first), then the warps (left first).
-// Throws std::invalid_argument for bad options or an empty chart.
+// Throws an input Error for bad options or an empty chart.
 PeriodicTile make_woven_tile(const WeaveChart& chart, const WovenTileOptions& options);
 
 }  // namespace yarnfit::db

@@ -1,4 +1,5 @@
 #include "numerics/newton/few_dof_newton.hpp"
+#include "numerics/util/error.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -18,7 +19,7 @@ Problems FewDofNewtonOptions::problems() const {
 namespace detail {
 void throw_if_invalid(const FewDofNewtonOptions& options) {
   if (const Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("minimise_few_dofs: " + problems.one_line());
+    throw Error(ErrorCategory::input, "minimise_few_dofs: " + problems.one_line());
 }
 }  // namespace detail
 

@@ -79,7 +79,7 @@ struct FewDofNewtonResult {
 };
 
 // Minimises the problem's function from x (updated in place to the last accepted point; the
-// start is accepted once evaluated). Throws std::invalid_argument for invalid options.
+// start is accepted once evaluated). Throws an input Error for invalid options.
 template <int N>
 FewDofNewtonResult<N> minimise_few_dofs(FewDofProblem<N>& problem, Eigen::Matrix<double, N, 1>& x,
                                         const FewDofNewtonOptions& options);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/format.hpp"
 
 namespace yarnfit::numerics {
@@ -545,7 +546,7 @@ NewtonSummary solve_newton(NewtonProblem& problem, Eigen::VectorXd& x, const New
                            ShiftedLdlt* workspace) {
   const auto start = Clock::now();
   if (const Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("solve_newton: " + problems.one_line());
+    throw Error(ErrorCategory::input, "solve_newton: " + problems.one_line());
   ShiftedLdlt own_factor;
   NewtonRun run(problem, x, options, workspace != nullptr ? *workspace : own_factor, start);
   return run.solve();

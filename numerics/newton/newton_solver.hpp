@@ -261,7 +261,7 @@ struct NewtonSummary {
 // Minimises problem's energy from x (updated in place; resized to problem.size() with zeros
 // when its size differs). With constraints x is first projected onto C x = 0. On return x
 // holds a state of finite energy unless the status is invalid_start (then the start, after
-// that projection). Throws std::invalid_argument for invalid options; numerical trouble is
+// that projection). Throws an input Error for invalid options; numerical trouble is
 // reported in the summary, never thrown. A caller that solves the same system again and
 // again passes a `workspace` it keeps: its symbolic analysis and triplet slots carry over
 // (shifted_ldlt.hpp), and it holds the last factorisation on return.

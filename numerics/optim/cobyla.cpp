@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::numerics {
 
@@ -92,7 +93,7 @@ CobylaStatus status_of(nlopt_result r, OwnStop own) {
 }
 
 void check(nlopt_result r, const char* what) {
-  if (r < 0) throw std::invalid_argument(std::string("cobyla settings: NLopt rejected ") + what);
+  if (r < 0) throw Error(ErrorCategory::input, std::string("cobyla settings: NLopt rejected ") + what);
 }
 
 }  // namespace
@@ -145,20 +146,20 @@ std::string CobylaSummary::brief_report() const {
 CobylaSummary run_cobyla(const Objective& objective, const Eigen::VectorXd& start, const Eigen::VectorXd& lower,
                          const Eigen::VectorXd& upper, const CobylaSettings& settings) {
   if (const Problems problems = settings.problems(); !problems.empty())
-    throw std::invalid_argument("cobyla settings: " + problems.one_line());
+    throw Error(ErrorCategory::input, "cobyla settings: " + problems.one_line());
   if (lower.size() != start.size() || upper.size() != start.size() || start.size() == 0)
-    throw std::invalid_argument("cobyla: start, lower and upper need the same, non-zero size");
+    throw Error(ErrorCategory::input, "cobyla: start, lower and upper need the same, non-zero size");
   for (Eigen::Index i = 0; i < start.size(); ++i) {
     if (!(lower[i] <= upper[i]) || !std::isfinite(lower[i]) || !std::isfinite(upper[i]))
-      throw std::invalid_argument("cobyla: bounds of coordinate " + std::to_string(i) + " are not a finite interval");
+      throw Error(ErrorCategory::input, "cobyla: bounds of coordinate " + std::to_string(i) + " are not a finite interval");
     if (!(start[i] >= lower[i] && start[i] <= upper[i]))
-      throw std::invalid_argument("cobyla start: coordinate " + std::to_string(i) + " lies outside its bounds");
+      throw Error(ErrorCategory::input, "cobyla start: coordinate " + std::to_string(i) + " lies outside its bounds");
   }
   Eigen::VectorXd u = start;
 
   const auto n = static_cast<unsigned>(start.size());
   std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(nlopt_create(NLOPT_LN_COBYLA, n), &nlopt_destroy);
-  if (!opt) throw std::runtime_error("cobyla: NLopt could not create the optimiser (out of memory)");
+  if (!opt) throw Error(ErrorCategory::system, "cobyla: NLopt could not create the optimiser (out of memory)");
   Context c{objective, lower, upper, settings, opt.get(), Clock::now(), {}, u, -std::numeric_limits<double>::infinity(),
             OwnStop::none};
   check(nlopt_set_lower_bounds(opt.get(), lower.data()), "the lower bounds");

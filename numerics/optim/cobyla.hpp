@@ -73,7 +73,7 @@ struct CobylaSummary {
 };
 
 // Minimises objective over the box [lower, upper] from `start` (inside it). Throws
-// std::invalid_argument for invalid settings, bounds or a start outside them; failed
+// an input Error for invalid settings, bounds or a start outside them; failed
 // evaluations and NLopt failures are reported in the summary, never thrown.
 [[nodiscard]] CobylaSummary run_cobyla(const Objective& objective, const Eigen::VectorXd& start,
                                        const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,

@@ -1,4 +1,5 @@
 #include "numerics/roots/bisection.hpp"
+#include "numerics/util/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,10 +18,10 @@ std::string BisectionOptions::problem() const {
 }
 
 BisectionResult bisect(const SidePredicate& below, double lower, double upper, const BisectionOptions& o) {
-  if (const std::string why = o.problem(); !why.empty()) throw std::invalid_argument("bisect: " + why);
-  if (!(lower <= upper)) throw std::invalid_argument("bisect: lower ≤ upper required");
+  if (const std::string why = o.problem(); !why.empty()) throw Error(ErrorCategory::input, "bisect: " + why);
+  if (!(lower <= upper)) throw Error(ErrorCategory::input, "bisect: lower ≤ upper required");
   if (o.midpoint == Midpoint::geometric && !(lower > 0.0))
-    throw std::invalid_argument("bisect: a geometric midpoint needs a positive bracket");
+    throw Error(ErrorCategory::input, "bisect: a geometric midpoint needs a positive bracket");
   BisectionResult out;
   for (int k = 0; k < o.halvings && (o.relative_width == 0.0 || upper - lower > o.relative_width * upper); ++k) {
     const double m = midpoint(lower, upper, o.midpoint);
@@ -45,7 +46,7 @@ std::string FactorBracketOptions::problem() const {
 }
 
 FactorBracket bracket_by_factor(const SidePredicate& below, double start, const FactorBracketOptions& o) {
-  if (const std::string why = o.problem(); !why.empty()) throw std::invalid_argument("bracket_by_factor: " + why);
+  if (const std::string why = o.problem(); !why.empty()) throw Error(ErrorCategory::input, "bracket_by_factor: " + why);
   FactorBracket out;
   double x = std::clamp(start, o.lower, o.upper);
   while (true) {

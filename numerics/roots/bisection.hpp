@@ -49,7 +49,7 @@ struct BisectionResult {
 };
 
 // [lower, upper] brackets the crossing: below(lower) and !below(upper) are assumed, never
-// evaluated. Throws std::invalid_argument for invalid options or a reversed bracket (or, with
+// evaluated. Throws an input Error for invalid options or a reversed bracket (or, with
 // geometric midpoints, one that is not positive).
 BisectionResult bisect(const SidePredicate& below, double lower, double upper, const BisectionOptions& options);
 
@@ -71,7 +71,7 @@ struct FactorBracket {
 // From start (clamped to [lower, upper]), steps towards the crossing by the factor (up while
 // x lies below it, down while above, each step clamped to the range) until it has evaluated a
 // point on each side, x lies below the crossing at upper (or above it at lower), or an
-// evaluation failed. Throws std::invalid_argument for invalid options.
+// evaluation failed. Throws an input Error for invalid options.
 FactorBracket bracket_by_factor(const SidePredicate& below, double start, const FactorBracketOptions& options);
 
 }  // namespace yarnfit::numerics

@@ -1,4 +1,5 @@
 #include "numerics/roots/bracketed_root.hpp"
+#include "numerics/util/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -42,7 +43,7 @@ const char* to_string(RootStatus status) {
 
 RootResult find_root(const RootFunction& f, double guess, const RootFindOptions& o) {
   if (const Problems problems = o.problems(); !problems.empty())
-    throw std::invalid_argument("find_root: " + problems.one_line());
+    throw Error(ErrorCategory::input, "find_root: " + problems.one_line());
   RootResult out;
   const auto evaluate = [&](double x) {
     ++out.evaluations;

@@ -62,7 +62,7 @@ struct RootResult {
 // ±inf is a valid value: its sign places x on one side of the root.
 using RootFunction = std::function<std::optional<double>(double x)>;
 
-// Throws std::invalid_argument for invalid options.
+// Throws an input Error for invalid options.
 RootResult find_root(const RootFunction& f, double guess, const RootFindOptions& options);
 
 }  // namespace yarnfit::numerics

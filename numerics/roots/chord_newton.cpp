@@ -1,4 +1,5 @@
 #include "numerics/roots/chord_newton.hpp"
+#include "numerics/util/error.hpp"
 
 #include <Eigen/LU>
 #include <cmath>
@@ -17,9 +18,9 @@ Problems ChordNewtonOptions::problems() const {
 ChordNewtonResult chord_newton(ChordNewtonProblem& problem, const Eigen::VectorXd& x0, const Eigen::VectorXd& f0,
                                const ChordNewtonOptions& options) {
   if (const Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("chord_newton: " + problems.one_line());
+    throw Error(ErrorCategory::input, "chord_newton: " + problems.one_line());
   const Eigen::Index n = x0.size();
-  if (f0.size() != n) throw std::invalid_argument("chord_newton: F(x0) and x0 differ in size");
+  if (f0.size() != n) throw Error(ErrorCategory::input, "chord_newton: F(x0) and x0 differ in size");
   ChordNewtonResult out;
   out.x = x0;
   out.f = f0;

@@ -47,7 +47,7 @@ struct ChordNewtonResult {
   int evaluations = 0;
 };
 
-// From x0 with F(x0) = f0 known. Throws std::invalid_argument for invalid options or sizes.
+// From x0 with F(x0) = f0 known. Throws an input Error for invalid options or sizes.
 ChordNewtonResult chord_newton(ChordNewtonProblem& problem, const Eigen::VectorXd& x0, const Eigen::VectorXd& f0,
                                const ChordNewtonOptions& options);
 

@@ -1,4 +1,5 @@
 #include "numerics/terms/scene.hpp"
+#include "numerics/util/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +8,10 @@
 namespace yarnfit::numerics {
 
 void check_terms(const TermList& terms, const char* who) {
-  if (terms.empty()) throw std::invalid_argument(std::string(who) + ": no energy terms");
+  if (terms.empty()) throw Error(ErrorCategory::input, std::string(who) + ": no energy terms");
   for (std::size_t i = 0; i < terms.size(); ++i) {
     if (terms[i] == nullptr)
-      throw std::invalid_argument(std::string(who) + ": energy term " + std::to_string(i) + " is null");
+      throw Error(ErrorCategory::input, std::string(who) + ": energy term " + std::to_string(i) + " is null");
   }
 }
 

@@ -14,7 +14,7 @@ namespace yarnfit::numerics {
 
 using TermList = std::vector<const EnergyTerm*>;
 
-// Throws std::invalid_argument (naming `who`) for an empty list or a null term.
+// Throws an input Error (naming `who`) for an empty list or a null term.
 void check_terms(const TermList& terms, const char* who);
 
 // Names of the terms, in order: the effects a scene simulated.

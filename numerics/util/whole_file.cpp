@@ -1,4 +1,5 @@
 #include "numerics/util/whole_file.hpp"
+#include "numerics/util/error.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -50,7 +51,7 @@ void write_file_whole(const std::filesystem::path& file, const std::string& text
   const auto fail = [&](int error) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + file.string() + ": " + std::strerror(error));
+    throw Error(ErrorCategory::io, "cannot write " + file.string() + ": " + std::strerror(error));
   };
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail(errno);

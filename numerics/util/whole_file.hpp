@@ -9,7 +9,7 @@ namespace yarnfit::numerics {
 
 // Writes `text` to `file` through a temporary file in the same folder (".NAME.tmpPID"), synced,
 // then renamed over it, so a reader never sees a half-written file, and the previous file stays
-// whole when the write fails. Throws std::runtime_error naming the file and the system's
+// whole when the write fails. Throws an Error naming the file and the system's
 // reason ("No space left on device"); the temporary file is removed then. Temporary files of
 // the same name left by a process that is gone (killed before its rename) are removed after a
 // write succeeds.

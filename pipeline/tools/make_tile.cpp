@@ -9,6 +9,7 @@
 #include "fabrics_db/text_util.hpp"
 #include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/woven_tile.hpp"
+#include "numerics/util/error.hpp"
 #include "results/tile_file.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 
@@ -119,7 +120,7 @@ MadeTile make_knit_tile(const TileRequest& r, db::Problems& problems) {
   yarn::GeneratedTile t;
   try {
     t = yarn::generate_knit_tile(*chart, o);
-  } catch (const std::invalid_argument& e) {  // loops that cannot be built at this length or gauge
+  } catch (const Error& e) {  // loops that cannot be built at this length or gauge
     problems.add_field("tile", e.what());
     return {};
   }

@@ -40,7 +40,7 @@ struct MadeTile {
 
 // Every problem of the request (fields named as TileRequest's, or `out` as the file) before
 // anything is made; nothing is made or written when there is one. A pyp that cannot be
-// written throws std::runtime_error naming it; a knit that does not relax is a MadeTile
+// written throws an Error naming it; a knit that does not relax is a MadeTile
 // with `failure`, and nothing written.
 [[nodiscard]] MadeTile make_tile(const TileRequest& request, db::Problems& problems);
 

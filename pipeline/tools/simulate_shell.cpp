@@ -6,6 +6,7 @@
 
 #include "fabrics_db/records/fabric.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/scenes/scene_json.hpp"
 
 namespace yarnfit::pipeline {
@@ -53,7 +54,7 @@ template <class Scene, class Setup>
 std::unique_ptr<Scene> make_scene(const Setup& setup, db::Problems& problems) {
   try {
     return std::make_unique<Scene>(setup);
-  } catch (const std::invalid_argument& e) {
+  } catch (const Error& e) {
     problems.add_field("scene", e.what());
     return nullptr;
   }
@@ -79,7 +80,7 @@ void run_pear(const ShellSimRequest& r, const shell::SyntheticShellOptions& o, d
     distances.push_back(d_mm * 1e-3);
     try {
       (void)scene->initial_state(distances.back());
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       problems.add_field("distance", format_g(d_mm) + " mm: " + e.what());
     }
   }

@@ -22,15 +22,7 @@ using nlohmann::json;
 using numerics::Clock;
 
 yarn::YarnSceneSetup scene_setup(const YarnSceneRequest& r) {
-  yarn::YarnSceneSetup s;
-  s.pattern = r.pattern;
-  s.params = r.params_file;
-  s.direction = r.direction;
-  s.ks2 = r.ks2;
-  s.rest_shape = r.rest_shape;
-  s.rest_rounds = r.rest_rounds;
-  s.max_iterations = r.max_iterations;
-  s.stress_tolerance = r.stress_tolerance;
+  yarn::YarnSceneSetup s = r.setup;
   s.compression = r.compression_method == "cobyla" ? yarn::CompressionMethod::cobyla : yarn::CompressionMethod::root_find;
   return s;
 }
@@ -38,10 +30,10 @@ yarn::YarnSceneSetup scene_setup(const YarnSceneRequest& r) {
 // Reads the pattern and the parameters; empty with `problems` when something is wrong.
 std::optional<yarn::YarnScene> load_scene(const YarnSceneRequest& r, db::Problems& problems) {
   const std::size_t before = problems.size();
-  if (!(std::isfinite(r.ks2) && r.ks2 >= 0.0)) problems.add_field("ks2", format_g(r.ks2) + ": must be a positive stiffness [N]");
-  if (!(std::isfinite(r.stress_tolerance) &&
-        (r.stress_tolerance >= 0.0 || r.stress_tolerance == yarn::EquilibriumOptions{}.stress_tolerance)))
-    problems.add_field("stress_tolerance", format_g(r.stress_tolerance) + ": must be a stress ≥ 0 [N/m]");
+  if (!(std::isfinite(r.setup.ks2) && r.setup.ks2 >= 0.0)) problems.add_field("ks2", format_g(r.setup.ks2) + ": must be a positive stiffness [N]");
+  const double tolerance = r.setup.stress_tolerance;
+  if (!(std::isfinite(tolerance) && (tolerance >= 0.0 || tolerance == yarn::EquilibriumOptions{}.stress_tolerance)))
+    problems.add_field("stress_tolerance", format_g(tolerance) + ": must be a stress ≥ 0 [N/m]");
   if (r.compression_method != "root" && r.compression_method != "cobyla")
     problems.add_field("compression_method", r.compression_method + ": not a method (root or cobyla)");
   if (!(r.threads >= 1)) problems.add_field("threads", "must be at least 1");
@@ -51,8 +43,8 @@ std::optional<yarn::YarnScene> load_scene(const YarnSceneRequest& r, db::Problem
   for (const auto& p : found.items())
     fixed_missing = fixed_missing || ((p.field == "ks2" || p.field == "kc2" || p.field == "R2") && p.message == "missing");
   problems.append(found);
-  if (fixed_missing && !(r.ks2 > 0.0))
-    problems.add_field("ks2", "not given: write ks2, kc2 and R2 in " + r.params_file +
+  if (fixed_missing && !(r.setup.ks2 > 0.0))
+    problems.add_field("ks2", "not given: write ks2, kc2 and R2 in " + r.setup.params.string() +
                                   ", or pass --ks2 N to derive the missing ones from the tile");
   if (problems.size() != before) return std::nullopt;
   return scene;
@@ -81,7 +73,7 @@ void report_stage(const numerics::ProgressFn& progress, const std::string& stage
 void prepare(yarn::YarnScene& scene, const YarnSceneRequest& r, const numerics::ProgressFn& progress,
              Clock::time_point start) {
   omp_set_num_threads(r.threads);
-  if (r.rest_shape) report_stage(progress, "rest shape (" + std::to_string(r.rest_rounds) + " rounds)", start);
+  if (r.setup.rest_shape) report_stage(progress, "rest shape (" + std::to_string(r.setup.rest_rounds) + " rounds)", start);
   yarn::prepare_rest_state(scene, scene_setup(r));
 }
 
@@ -101,7 +93,7 @@ std::string sample_summary(const YarnSimRequest& r, const yarn::YarnScene& scene
                            const json& out, bool dumped) {
   const auto f = [](const json& v, int digits = 6) { return v.is_null() ? std::string("-") : format_g(v.get<double>(), digits); };
   std::ostringstream s;
-  s << "yarn sim " << r.scene.pattern << ", " << r.scene.direction << ": s = " << format_g(r.stretch)
+  s << "yarn sim " << r.scene.setup.pattern.string() << ", " << r.scene.setup.direction << ": s = " << format_g(r.stretch)
     << ", c = " << f(out["compression"]) << (r.free_compression ? " (free)" : " (fixed)")
     << (r.curvature ? ", curvature " + format_g(*r.curvature) + " 1/m" : std::string()) << "\n"
     << "  " << (sample.ok ? sample.termination : "NOT converged (" + sample.termination + ")") << ", "
@@ -120,7 +112,7 @@ std::string sample_summary(const YarnSimRequest& r, const yarn::YarnScene& scene
 std::string curve_summary(const YarnCurveRequest& r, const yarn::YarnScene& scene, const yarn::StretchSweep& sweep,
                           double total_seconds) {
   std::ostringstream s;
-  s << "yarn curve " << r.scene.pattern << ", " << r.scene.direction << ", s from 0 to " << format_g(r.max_stretch)
+  s << "yarn curve " << r.scene.setup.pattern.string() << ", " << r.scene.setup.direction << ", s from 0 to " << format_g(r.max_stretch)
     << " with free compression: " << sweep.points.size() - static_cast<std::size_t>(sweep.failures) << " of "
     << sweep.points.size() << " points converged, " << sweep.newton_iterations << " Newton iterations, "
     << format_g(sweep.seconds, 3) << " s";
@@ -168,7 +160,7 @@ YarnSimOutcome simulate_yarn_sample(const YarnSimRequest& r, db::Problems& probl
   outcome.failure = sample.message;
   if (!r.dump.empty())
     outcome.dump_failure = dump_obj(r.dump, *scene, sample.g, sample.state_chi(), r.dump_neighbours, sample.sample.ok,
-                                    "yarn sim " + r.scene.pattern + " " + r.scene.direction);
+                                    "yarn sim " + r.scene.setup.pattern.string() + " " + r.scene.setup.direction);
   outcome.summary = sample_summary(r, *scene, sample, outcome.json, outcome.dump_failure.empty());
   return outcome;
 }
@@ -200,9 +192,9 @@ YarnCurveOutcome sweep_yarn_stretch(const YarnCurveRequest& r, db::Problems& pro
   options.on_point = [&](std::size_t i, const yarn::Sample& s, const Eigen::VectorXd& g) {
     if (!r.dump_dir.empty()) {
       char name[96];
-      std::snprintf(name, sizeof name, "%s_%0*zu_s%.4f.obj", r.scene.direction.c_str(), width, i, s.chi.stretch);
+      std::snprintf(name, sizeof name, "%s_%0*zu_s%.4f.obj", r.scene.setup.direction.c_str(), width, i, s.chi.stretch);
       const std::string failed = dump_obj((fs::path(r.dump_dir) / name).string(), *scene, g, s.chi, r.dump_neighbours,
-                                          s.ok, "yarn curve " + r.scene.pattern + " " + r.scene.direction);
+                                          s.ok, "yarn curve " + r.scene.setup.pattern.string() + " " + r.scene.setup.direction);
       if (!failed.empty()) outcome.failures.push_back(failed);
       dumps_ok = dumps_ok && failed.empty();
     }
@@ -217,7 +209,7 @@ YarnCurveOutcome sweep_yarn_stretch(const YarnCurveRequest& r, db::Problems& pro
     progress(p);
   };
   const yarn::StretchSweep sweep = yarn::sweep_stretch(*scene->system, scene->angle, stretches, scene->g, options);
-  db::write_text_file_atomically(r.out, yarn::sweep_csv(r.scene.direction, sweep));
+  db::write_text_file_atomically(r.out, yarn::sweep_csv(r.scene.setup.direction, sweep));
   const bool rest_ok = !scene->rest || scene->rest->converged;
   if (!rest_ok)
     outcome.failures.push_back(std::string("rest shape not converged: ") + yarn::to_string(scene->rest->last_solve.status) + ": " +

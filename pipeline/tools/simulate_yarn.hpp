@@ -21,15 +21,8 @@ namespace yarnfit::pipeline {
 
 // The tile, its parameters and how both commands solve it.
 struct YarnSceneRequest {
-  std::string pattern;      // pyp tile; its x axis is the weft (fabric.yaml's weft_axis: x)
-  std::string params_file;  // YAML or JSON with the keys of yarn_fit.json's params
-  std::string direction = "weft";
-  double ks2 = 0.0;         // > 0: fills ks2, kc2, R2 the parameter file leaves out (SPEC §3)
-  bool rest_shape = true;   // run the rest-shape heuristic before loading
-  int rest_rounds = yarn::RestShapeOptions{}.rounds;
-  int max_iterations = yarn::EquilibriumOptions{}.max_iterations;
-  double stress_tolerance = yarn::EquilibriumOptions{}.stress_tolerance;  // < 0: the system's default
-  std::string compression_method = "root";  // root (∂Ψ/∂c = 0) or cobyla
+  yarn::YarnSceneSetup setup;  // the tile, the parameter file, the direction and the solves' settings
+  std::string compression_method = "root";  // root (∂Ψ/∂c = 0) or cobyla: setup.compression
   int threads = 1;
 };
 
@@ -69,7 +62,7 @@ struct YarnCurveOutcome {
 // Each checks the request first (problems name its fields, the files read, or the outputs that
 // cannot be placed) and simulates nothing when there is a problem. `progress` sees the stages
 // (the rest shape, the solve) and, for a curve, each point. The curve's CSV is written
-// atomically; one that cannot be written throws std::runtime_error naming it.
+// atomically; one that cannot be written throws an Error naming it.
 [[nodiscard]] YarnSimOutcome simulate_yarn_sample(const YarnSimRequest& request, db::Problems& problems,
                                                   const numerics::ProgressFn& progress = {});
 [[nodiscard]] YarnCurveOutcome sweep_yarn_stretch(const YarnCurveRequest& request, db::Problems& problems,

@@ -65,7 +65,7 @@ struct SynthFabricRequest {
 
 // Each checks its request (problems name its fields, or the file read) and writes nothing when
 // there is one; otherwise writes the record and returns a line saying what it wrote. Throws
-// std::invalid_argument for settings the simulation refuses, std::runtime_error when a
+// an input Error for settings the simulation refuses, an Error when a
 // simulation fails or the record exists without `force`.
 [[nodiscard]] std::string synth_shell(const SynthShellRequest& request, db::Problems& problems);
 [[nodiscard]] std::string synth_yarn(const SynthYarnRequest& request, db::Problems& problems);

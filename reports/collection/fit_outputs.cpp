@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "results/read_if_present.hpp"
 
 namespace yarnfit::reports {
@@ -62,13 +63,13 @@ RunOutputs read_fit_folders(const fs::path& dir) {
     run.fabrics.push_back(read_fit_outputs(dir, run.problems));
     return run;
   }
-  if (!fs::is_directory(dir)) throw std::invalid_argument(dir.string() + ": no such folder");
+  if (!fs::is_directory(dir)) throw Error(ErrorCategory::input, dir.string() + ": no such folder");
   std::vector<fs::path> folders;
   for (const auto& e : fs::directory_iterator(dir))
     if (e.is_directory() && (fs::exists(e.path() / "shell_fit.json") || fs::exists(e.path() / "yarn_fit.json")))
       folders.push_back(e.path());
   if (folders.empty())
-    throw std::invalid_argument(dir.string() +
+    throw Error(ErrorCategory::input, dir.string() +
                                 ": neither a batch output (batch.db), nor a `yarnfit fit` output folder, nor a folder "
                                 "of them (no shell_fit.json found)");
   std::sort(folders.begin(), folders.end());

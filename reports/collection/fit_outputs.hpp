@@ -42,7 +42,7 @@ struct RunOutputs {
 FabricOutputs read_fit_outputs(const std::filesystem::path& folder, std::vector<std::string>& problems);
 
 // A folder of `fit` outputs, or a folder whose sub-folders are (each holding shell_fit.json).
-// Throws std::invalid_argument when it is neither.
+// Throws an input Error when it is neither.
 RunOutputs read_fit_folders(const std::filesystem::path& dir);
 
 }  // namespace yarnfit::reports

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "numerics/util/error.hpp"
 #include "reports/html/svg_plot.hpp"
 
 namespace yarnfit::reports {
@@ -103,7 +104,7 @@ TileDrawing draw_tile(const db::PeriodicTile& tile, double radius, const std::st
   db::TileFacts facts;
   try {
     facts = db::compute_tile_facts(tile);
-  } catch (const std::invalid_argument&) {
+  } catch (const Error&) {
     return out;
   }
   std::vector<std::vector<Point>> yarns;

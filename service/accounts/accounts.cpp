@@ -9,12 +9,13 @@
 
 #include "fabrics_db/records/sha256.hpp"
 #include "batch/sqlite_statement.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::service {
 
 namespace {
 
-using Statement = batch::SqliteStatement<AccountError>;
+using Statement = batch::SqliteStatement;
 
 constexpr const char* k_schema = R"sql(
 CREATE TABLE IF NOT EXISTS users(
@@ -34,7 +35,7 @@ std::string random_bytes(std::size_t n) {
   std::string out(n, '\0');
   if (RAND_bytes(reinterpret_cast<unsigned char*>(out.data()), static_cast<int>(n)) != 1) {
     const char* why = ERR_reason_error_string(ERR_get_error());
-    throw AccountError(std::string("cannot draw random bytes: ") + (why ? why : "the random generator failed"));
+    throw Error(ErrorCategory::system, std::string("cannot draw random bytes: ") + (why ? why : "the random generator failed"));
   }
   return out;
 }
@@ -84,14 +85,14 @@ std::string user_name_problem(std::string_view name) {
 }
 
 Accounts::Accounts(const std::filesystem::path& file) : m_file(file) {
-  m_db = batch::open_sqlite<AccountError>(file, false, "the accounts");
+  m_db = batch::open_sqlite(file, false, "the accounts");
   try {
     // Only the service's user reads it (SQLite gives its -wal and -shm files the same mode).
     std::error_code ec;
     std::filesystem::permissions(file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write,
                                  std::filesystem::perm_options::replace, ec);
-    batch::exec_sql<AccountError>(m_db, m_file, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;");
-    batch::exec_sql<AccountError>(m_db, m_file, std::string("BEGIN IMMEDIATE;") + k_schema + "COMMIT;");
+    batch::exec_sql(m_db, m_file, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;");
+    batch::exec_sql(m_db, m_file, std::string("BEGIN IMMEDIATE;") + k_schema + "COMMIT;");
   } catch (...) {
     sqlite3_close(m_db);
     throw;
@@ -109,10 +110,10 @@ IssuedToken Accounts::issue(const std::string& name) {
 }
 
 IssuedToken Accounts::add_user(const std::string& name, bool admin) {
-  if (const std::string why = user_name_problem(name); !why.empty()) throw AccountError(name + ": " + why);
+  if (const std::string why = user_name_problem(name); !why.empty()) throw Error(ErrorCategory::input, name + ": " + why);
   IssuedToken issued;
-  batch::sql_transaction<AccountError>(m_db, m_file, [&] {
-    if (find(name)) throw AccountError(name + ": a user of that name exists (revoke or give a new token instead)");
+  batch::sql_transaction(m_db, m_file, [&] {
+    if (find(name)) throw Error(ErrorCategory::conflict, name + ": a user of that name exists (revoke or give a new token instead)");
     // A placeholder token id (never a valid one: it holds ':') until issue() draws the real one.
     Statement s(m_db, m_file,
                 "INSERT INTO users(name, admin, token_id, secret_sha256, created) VALUES (?1, ?2, ?3, '', ?4)");
@@ -124,16 +125,16 @@ IssuedToken Accounts::add_user(const std::string& name, bool admin) {
 
 IssuedToken Accounts::new_token(const std::string& name) {
   IssuedToken issued;
-  batch::sql_transaction<AccountError>(m_db, m_file, [&] {
-    if (!find(name)) throw AccountError(name + ": no such user");
+  batch::sql_transaction(m_db, m_file, [&] {
+    if (!find(name)) throw Error(ErrorCategory::input, name + ": no such user");
     issued = issue(name);
   });
   return issued;
 }
 
 void Accounts::revoke(const std::string& name) {
-  batch::sql_transaction<AccountError>(m_db, m_file, [&] {
-    if (!find(name)) throw AccountError(name + ": no such user");
+  batch::sql_transaction(m_db, m_file, [&] {
+    if (!find(name)) throw Error(ErrorCategory::input, name + ": no such user");
     Statement(m_db, m_file, "UPDATE users SET revoked = 1 WHERE name = ?1").bind(1, name).run();
   });
 }

@@ -15,14 +15,11 @@
 #include <string_view>
 #include <vector>
 
+#include "numerics/util/error.hpp"
+
 struct sqlite3;
 
 namespace yarnfit::service {
-
-class AccountError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct Account {
   std::string name;
@@ -49,12 +46,12 @@ class Accounts {
   Accounts(const Accounts&) = delete;
   Accounts& operator=(const Accounts&) = delete;
 
-  // A new user and their first token. Throws AccountError for a bad or taken name.
+  // A new user and their first token. Throws an Error for a bad or taken name.
   IssuedToken add_user(const std::string& name, bool admin);
   // A new token for the user (the old one stops working); clears a revocation. Throws
-  // AccountError for an unknown user.
+  // an Error for an unknown user.
   IssuedToken new_token(const std::string& name);
-  // The user's token stops working. Throws AccountError for an unknown user.
+  // The user's token stops working. Throws an Error for an unknown user.
   void revoke(const std::string& name);
 
   // The account a bearer token belongs to; none for a malformed, unknown or revoked token.

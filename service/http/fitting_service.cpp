@@ -17,9 +17,11 @@
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
 
+#include "fabrics_db/csv/csv_table.hpp"
 #include "fabrics_db/fab/fab_import.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "service/accounts/accounts.hpp"
 #include "service/http/gated_server.hpp"
 #include "service/http/page_html.hpp"
@@ -83,7 +85,7 @@ std::string page_policy() {
     unsigned char digest[EVP_MAX_MD_SIZE];
     unsigned int length = 0;
     if (EVP_Digest(body.data(), body.size(), digest, &length, EVP_sha256(), nullptr) != 1)
-      throw std::runtime_error("cannot hash the page's script (OpenSSL)");
+      throw Error(ErrorCategory::system, "cannot hash the page's script (OpenSSL)");
     std::string base64(4 * ((length + 2) / 3) + 1, '\0');
     base64.resize(static_cast<std::size_t>(EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()), digest, static_cast<int>(length))));
     return "'sha256-" + base64 + "'";
@@ -245,13 +247,10 @@ struct FittingService::Impl {
     const std::string denier = req.get_param_value("denier");
     if (denier.empty())
       return refuse(res, 422, "denier: give the yarn's linear density (?denier=D): the FAB does not measure it"), false;
-    try {
-      std::size_t used = 0;
-      o.denier = std::stod(denier, &used);
-      if (used != denier.size() || !std::isfinite(*o.denier) || !(*o.denier > 0.0)) throw std::invalid_argument(denier);
-    } catch (const std::exception&) {
+    std::string why;
+    o.denier = db::parse_finite_number(denier, why);
+    if (!o.denier || !(*o.denier > 0.0))
       return refuse(res, 422, "denier: '" + denier + "' is not a positive number"), false;
-    }
     return true;
   }
 
@@ -610,7 +609,7 @@ int FittingService::bind() {
                                              : (m_impl->http.bind_to_port(m_impl->options.host, m_impl->options.port)
                                                     ? m_impl->options.port
                                                     : -1);
-  if (port <= 0) throw std::runtime_error(m_impl->options.host + ":" + std::to_string(m_impl->options.port) + ": cannot listen");
+  if (port <= 0) throw Error(ErrorCategory::system, m_impl->options.host + ":" + std::to_string(m_impl->options.port) + ": cannot listen");
   m_impl->http.size_backlog();
   return m_impl->port = port;
 }

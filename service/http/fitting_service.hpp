@@ -73,7 +73,7 @@ class FittingService {
   FittingService& operator=(const FittingService&) = delete;
 
   // Binds the listening socket; returns the port (the chosen one when options.port is 0).
-  // Throws std::runtime_error when it cannot.
+  // Throws an Error when it cannot.
   int bind();
   // Every route registered, in registration order.
   [[nodiscard]] const std::vector<Route>& routes() const;

@@ -1,4 +1,5 @@
 #include "service/http/gated_server.hpp"
+#include "numerics/util/error.hpp"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -179,7 +180,7 @@ struct GatedServer::Gate {
         head(limits.max_head_bytes + 1), workers(static_cast<std::size_t>(std::max(1, l.workers))) {
     epoll = ::epoll_create1(EPOLL_CLOEXEC);
     wake = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-    if (epoll < 0 || wake < 0) throw std::runtime_error("cannot start the connection gate (epoll)");
+    if (epoll < 0 || wake < 0) throw Error(ErrorCategory::system, "cannot start the connection gate (epoll)");
     epoll_event ev{};
     ev.events = EPOLLIN;
     ev.data.fd = wake;

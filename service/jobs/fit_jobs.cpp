@@ -19,6 +19,7 @@
 #include "batch/batch.hpp"
 #include "batch/batch_report.hpp"
 #include "exports/export_fit.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/whole_file.hpp"
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "reports/report.hpp"
@@ -216,7 +217,7 @@ struct FitJobs::Impl {
           const std::lock_guard lock(mutex);
           engine_error = e.what();
         }
-        std::call_once(*once, [&] { started.set_exception(std::make_exception_ptr(std::runtime_error(e.what()))); });
+        std::call_once(*once, [&started] { started.set_exception(std::current_exception()); });
       }
       if (!stopping) {
         const std::lock_guard lock(mutex);

@@ -51,7 +51,7 @@ struct JobAnswer {
 class FitJobs {
  public:
   // Starts the engine on DATA_DIR/runs and feeds it the jobs a previous run left queued or
-  // running. Throws std::runtime_error when the engine cannot start (another service holds
+  // running. Throws an Error when the engine cannot start (another service holds
   // DATA_DIR/runs).
   FitJobs(std::filesystem::path data_dir, FitJobsOptions options);
   // Stops the engine: running fits are killed and stay queued for the next start.

@@ -1,4 +1,5 @@
 #include "service/upload/unpack_zygote.hpp"
+#include "numerics/util/error.hpp"
 
 #include <signal.h>
 #include <sys/prctl.h>
@@ -85,10 +86,10 @@ UnpackedUpload from_json(const json& j) {
 UnpackZygote::UnpackZygote(UploadLimits limits, UnpackIsolation isolation) {
   int fds[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
-    throw std::runtime_error("cannot start the upload unpacker (socketpair)");
+    throw Error(ErrorCategory::system, "cannot start the upload unpacker (socketpair)");
   std::fflush(nullptr);
   const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error("cannot start the upload unpacker (fork)");
+  if (pid < 0) throw Error(ErrorCategory::system, "cannot start the upload unpacker (fork)");
   if (pid == 0) {
     ::close(fds[0]);
     helper(fds[1], limits, isolation);

@@ -18,7 +18,7 @@ namespace yarnfit::service {
 
 class UnpackZygote {
  public:
-  // Forks the helper now; it unpacks with `limits` under `isolation`. Throws std::runtime_error
+  // Forks the helper now; it unpacks with `limits` under `isolation`. Throws an Error
   // when it cannot.
   UnpackZygote(UploadLimits limits, UnpackIsolation isolation);
   // Closes the channel (the helper exits) and reaps the helper.

@@ -11,6 +11,7 @@
 
 #include "numerics/psd_projection.hpp"
 #include "numerics/terms/element_assembly.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::shell {
 
@@ -128,7 +129,7 @@ bool dihedral_derivatives(const Stencil& s, double& theta, Vector12& grad, Matri
 
 void check_bending_size(const Eigen::VectorXd& x, int dofs, const char* what) {
   if (x.size() != dofs) {
-    throw std::invalid_argument(std::string("BendingTerm::") + what + ": expected " +
+    throw Error(ErrorCategory::input, std::string("BendingTerm::") + what + ": expected " +
                                 std::to_string(dofs) + " coordinates, got " +
                                 std::to_string(x.size()));
   }
@@ -217,7 +218,7 @@ BendingTerm::BendingTerm(const ShellMesh& mesh, const BendingParams& params)
     const double ha = L > 0.0 ? altitude(ie.a) : 0.0;
     const double hb = L > 0.0 ? altitude(ie.b) : 0.0;
     if (!(ha > 0.0) || !(hb > 0.0)) {
-      throw std::invalid_argument("BendingTerm: degenerate rest triangle at interior edge (" +
+      throw Error(ErrorCategory::input, "BendingTerm: degenerate rest triangle at interior edge (" +
                                   std::to_string(ie.v0) + ", " + std::to_string(ie.v1) + ")");
     }
     e.rest_height = 0.5 * (ha + hb);
@@ -273,7 +274,7 @@ void BendingTerm::add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h,
 void BendingTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
   check_bending_size(x, dof_count(), "add_gradient_per_parameter");
   if (G.rows() != dof_count() || G.cols() != parameter_count) {
-    throw std::invalid_argument("BendingTerm::add_gradient_per_parameter: G must be " +
+    throw Error(ErrorCategory::input, "BendingTerm::add_gradient_per_parameter: G must be " +
                                 std::to_string(dof_count()) + " x 3, got " +
                                 std::to_string(G.rows()) + " x " + std::to_string(G.cols()));
   }

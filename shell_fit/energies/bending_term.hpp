@@ -52,7 +52,7 @@ class BendingTerm final : public numerics::EnergyTerm {
   static constexpr int parameter_count = 3;  // k_θ weft, bias, warp
 
   // Uses mesh.interior_edges (call build_interior_edges first). Copies what it needs.
-  // Throws std::invalid_argument for a degenerate rest triangle on an interior edge.
+  // Throws an input Error for a degenerate rest triangle on an interior edge.
   BendingTerm(const ShellMesh& mesh, const BendingParams& params);
 
   [[nodiscard]] std::string name() const override { return "bending"; }

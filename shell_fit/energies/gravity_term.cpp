@@ -1,4 +1,5 @@
 #include "shell_fit/energies/gravity_term.hpp"
+#include "numerics/util/error.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -8,12 +9,12 @@ namespace yarnfit::shell {
 
 GravityTerm::GravityTerm(const ShellMesh& mesh, double areal_density, double g) : m_g(g) {
   if (!std::isfinite(areal_density) || areal_density < 0.0) {
-    throw std::invalid_argument(
+    throw Error(ErrorCategory::input, 
         "GravityTerm: areal density must be finite and >= 0 [kg/m^2], got " +
         std::to_string(areal_density));
   }
   if (!std::isfinite(g) || g < 0.0) {
-    throw std::invalid_argument("GravityTerm: g must be finite and >= 0 [m/s^2], got " +
+    throw Error(ErrorCategory::input, "GravityTerm: g must be finite and >= 0 [m/s^2], got " +
                                 std::to_string(g));
   }
   m_masses = Eigen::VectorXd::Zero(mesh.vertex_count());
@@ -25,7 +26,7 @@ GravityTerm::GravityTerm(const ShellMesh& mesh, double areal_density, double g) 
 
 void GravityTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
   if (x.size() != dim * m_masses.size()) {
-    throw std::invalid_argument("GravityTerm::value: expected " +
+    throw Error(ErrorCategory::input, "GravityTerm::value: expected " +
                                 std::to_string(dim * m_masses.size()) + " coordinates, got " +
                                 std::to_string(x.size()));
   }
@@ -36,7 +37,7 @@ void GravityTerm::add_value(const Eigen::VectorXd& x, double& energy) const {
 
 void GravityTerm::add_gradient(const Eigen::VectorXd& x, Eigen::VectorXd& g) const {
   if (x.size() != dim * m_masses.size() || g.size() != x.size()) {
-    throw std::invalid_argument("GravityTerm::add_gradient: expected " +
+    throw Error(ErrorCategory::input, "GravityTerm::add_gradient: expected " +
                                 std::to_string(dim * m_masses.size()) + " coordinates");
   }
   for (Eigen::Index v = 0; v < m_masses.size(); ++v) g(dim * v + 2) += m_masses(v) * m_g;

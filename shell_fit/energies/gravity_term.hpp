@@ -18,7 +18,7 @@ class GravityTerm final : public numerics::EnergyTerm {
  public:
   static constexpr int dim = 3;
 
-  // Throws std::invalid_argument for a negative or non-finite density or g.
+  // Throws an input Error for a negative or non-finite density or g.
   GravityTerm(const ShellMesh& mesh, double areal_density, double g = 9.81);
 
   [[nodiscard]] std::string name() const override { return "gravity"; }

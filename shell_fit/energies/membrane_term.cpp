@@ -7,6 +7,7 @@
 
 #include "numerics/psd_projection.hpp"
 #include "numerics/terms/element_assembly.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::shell {
 
@@ -89,7 +90,7 @@ struct Kernel {
 
 void check_membrane_size(const Eigen::VectorXd& x, int dofs, const char* what) {
   if (x.size() != dofs) {
-    throw std::invalid_argument(std::string("MembraneTerm::") + what + ": expected " +
+    throw Error(ErrorCategory::input, std::string("MembraneTerm::") + what + ": expected " +
                                 std::to_string(dofs) + " coordinates, got " +
                                 std::to_string(x.size()));
   }
@@ -142,7 +143,7 @@ MembraneTerm::MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, i
       m_material(params, mesh.material_angle),
       m_unit_materials(unit_materials(params, mesh.material_angle)) {
   if (dim != 2 && dim != 3) {
-    throw std::invalid_argument("MembraneTerm: dim must be 2 or 3, got " + std::to_string(dim));
+    throw Error(ErrorCategory::input, "MembraneTerm: dim must be 2 or 3, got " + std::to_string(dim));
   }
   m_elements.reserve(static_cast<std::size_t>(mesh.triangle_count()));
   for (int t = 0; t < mesh.triangle_count(); ++t) {
@@ -154,7 +155,7 @@ MembraneTerm::MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, i
     Dm.col(1) = mesh.rest.row(e.v[2]).transpose() - X0;
     e.area = 0.5 * Dm.determinant();
     if (!(e.area > 0.0)) {
-      throw std::invalid_argument("MembraneTerm: triangle " + std::to_string(t) +
+      throw Error(ErrorCategory::input, "MembraneTerm: triangle " + std::to_string(t) +
                                   " has non-positive rest area (must be counter-clockwise)");
     }
     const Eigen::Matrix2d Dm_inv = Dm.inverse();
@@ -189,7 +190,7 @@ void MembraneTerm::add_hessian(const Eigen::VectorXd& x, numerics::Triplets& h, 
 void MembraneTerm::add_gradient_per_parameter(const Eigen::VectorXd& x, Eigen::MatrixXd& G) const {
   check_membrane_size(x, dof_count(), "add_gradient_per_parameter");
   if (G.rows() != dof_count() || G.cols() != parameter_count) {
-    throw std::invalid_argument("MembraneTerm::add_gradient_per_parameter: G must be " +
+    throw Error(ErrorCategory::input, "MembraneTerm::add_gradient_per_parameter: G must be " +
                                 std::to_string(dof_count()) + " x " + std::to_string(parameter_count) + ", got " +
                                 std::to_string(G.rows()) + " x " + std::to_string(G.cols()));
   }

@@ -34,7 +34,7 @@ class MembraneTerm final : public numerics::EnergyTerm {
  public:
   static constexpr int parameter_count = k_inplane_param_count;  // k_inplane_param_names
 
-  // Copies what it needs from `mesh` (no reference is kept). Throws std::invalid_argument when
+  // Copies what it needs from `mesh` (no reference is kept). Throws an input Error when
   // dim is not 2 or 3 or a triangle has non-positive rest area (not counter-clockwise).
   MembraneTerm(const ShellMesh& mesh, const InplaneParams& params, int dim);
 

@@ -4,6 +4,7 @@
 
 #include "numerics/roots/bisection.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/format.hpp"
 #include "results/metrics/error_metrics.hpp"
 #include "shell_fit/energies/lockup_curve.hpp"
@@ -32,7 +33,7 @@ constexpr double k_max_length_ratio = 10.0;
 
 double areal_density_of(const db::Fabric& fabric) {
   if (!fabric.areal_density || !(*fabric.areal_density > 0.0)) {
-    throw std::invalid_argument("fabric " + fabric.id +
+    throw Error(ErrorCategory::input, "fabric " + fabric.id +
                                 ": bending tests need areal_density_gsm (the pear loop hangs under gravity)");
   }
   return *fabric.areal_density;
@@ -350,7 +351,7 @@ BendingDirectionFit make_bending_targets(const db::BendingTest& test) {
 
 PearLoopSetup pear_loop_setup(const db::BendingTest& test, double areal_density, double target_edge,
                               int refinements, double gravity) {
-  if (!(areal_density > 0.0)) throw std::invalid_argument("pear loop: the areal density must be positive");
+  if (!(areal_density > 0.0)) throw Error(ErrorCategory::input, "pear loop: the areal density must be positive");
   PearLoopSetup s;
   s.length = test.swatch.length;
   s.width = test.swatch.width;

@@ -97,7 +97,7 @@ struct BendingFitResult {
 BendingDirectionFit make_bending_targets(const db::BendingTest& test);
 
 // The scene of one test: its swatch, the material frame of its direction, the fabric's
-// density. Throws std::invalid_argument for a non-positive density.
+// density. Throws an input Error for a non-positive density.
 PearLoopSetup pear_loop_setup(const db::BendingTest& test, double areal_density, double target_edge,
                               int refinements, double gravity = 9.81);
 
@@ -105,7 +105,7 @@ PearLoopSetup pear_loop_setup(const db::BendingTest& test, double areal_density,
 BendingParams initial_bending_guess(const db::Fabric& fabric, const InplaneParams& inplane,
                                     const BendingFitOptions& options);
 
-// Throws std::invalid_argument when the fabric has bending tests but no areal density (the
+// Throws an input Error when the fabric has bending tests but no areal density (the
 // pear loop hangs under gravity). A fabric without bending tests returns converged = false,
 // all three k_θ in not_identified and params all zero: there is nothing to fit.
 BendingFitResult fit_bending(const db::Fabric& fabric, const InplaneParams& inplane,

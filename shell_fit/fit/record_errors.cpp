@@ -5,6 +5,7 @@
 
 #include "fabrics_db/records/fabric_summary.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "results/metrics/error_metrics.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
 #include "shell_fit/fit/inplane_fit.hpp"
@@ -19,7 +20,7 @@ RecordErrors simulate_record_errors(const db::Fabric& fabric, const ShellParams&
   RecordErrors out;
   out.errors = {nan, nan, nan};
   if (!fabric.bending_tests.empty() && !fabric.areal_density)
-    throw std::invalid_argument("record errors: bending tests without an areal density");
+    throw Error(ErrorCategory::input, "record errors: bending tests without an areal density");
   const auto entry = [&out](const std::string& dir) -> results::ShellDirectionErrors& {
     return out.by_direction.try_emplace(dir, results::ShellDirectionErrors{nan, nan, nan}).first->second;
   };

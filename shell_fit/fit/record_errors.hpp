@@ -32,7 +32,7 @@ struct RecordErrors {
   double seconds = 0.0;
 };
 
-// Throws std::invalid_argument for a record with bending tests and no areal density.
+// Throws an input Error for a record with bending tests and no areal density.
 RecordErrors simulate_record_errors(const db::Fabric& fabric, const ShellParams& params,
                                     const RecordErrorOptions& options = {});
 

@@ -7,6 +7,7 @@
 
 #include "fabrics_db/text_util.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::shell {
 
@@ -74,7 +75,7 @@ void fit_fab_tests(const db::Fabric& fabric, const ShellFitOptions& options, She
 
 ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& options) {
   if (const auto problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("shell fit options:\n" + problems.to_string());
+    throw Error(ErrorCategory::input, "shell fit options:\n" + problems.to_string());
   ShellFitResult result;
   result.fabric_id = fabric.id;
   result.family = fabric.family;

@@ -87,7 +87,7 @@ struct ShellFitResult {
   [[nodiscard]] std::string failure() const;
 };
 
-// Throws std::invalid_argument listing every problem when `options` are invalid. A fit that
+// Throws an input Error listing every problem when `options` are invalid. A fit that
 // does not converge is a result (converged() false), never an exception.
 ShellFitResult fit_shell(const db::Fabric& fabric, const ShellFitOptions& options);
 

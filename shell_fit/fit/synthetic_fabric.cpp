@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/fit/bending_fit.hpp"
 
 namespace yarnfit::shell {
@@ -52,11 +53,11 @@ PearLoopSetup synthetic_bending_setup(const SyntheticShellOptions& o, db::Direct
 
 std::string simulate_stretch_csv(const InplaneParams& params, const ClampedStretchSetup& setup, double max_stretch,
                                  int points, const std::string& comment, int digits, double noise, std::mt19937* rng) {
-  if (points < 2 || !(max_stretch > 0.0)) throw std::invalid_argument("a stretch curve needs 2 points and a positive largest stretch");
+  if (points < 2 || !(max_stretch > 0.0)) throw Error(ErrorCategory::input, "a stretch curve needs 2 points and a positive largest stretch");
   std::vector<double> targets;
   for (int i = 1; i < points; ++i) targets.push_back(max_stretch * i / (points - 1));
   const auto run = ClampedStretchScene(setup).run(params, targets);
-  if (!run.ok) throw std::runtime_error(run.message);
+  if (!run.ok) throw Error(ErrorCategory::solve, run.message);
   std::ostringstream csv;
   csv << comment_line(comment) << "stretch,force_N,compression\n0,0,0\n";
   for (const auto& smp : run.samples) {
@@ -80,9 +81,9 @@ std::string simulate_bending_csv(const ShellParams& params, const PearLoopSetup&
                                  const std::vector<double>& clamp_distances, const std::string& comment, int digits,
                                  double noise, std::mt19937* rng) {
   for (double k : params.bending.ktheta)
-    if (!(k > 0.0 && std::isfinite(k))) throw std::invalid_argument("a pear-loop test needs positive k_theta (weft, bias, warp)");
+    if (!(k > 0.0 && std::isfinite(k))) throw Error(ErrorCategory::input, "a pear-loop test needs positive k_theta (weft, bias, warp)");
   const auto run = PearLoopScene(setup).run(params, clamp_distances);
-  if (!run.ok) throw std::runtime_error(run.message);
+  if (!run.ok) throw Error(ErrorCategory::solve, run.message);
   std::ostringstream csv;
   csv << comment_line(comment) << "clamp_distance_mm,aspect_ratio,height_mm,width_mm\n";
   for (const auto& smp : run.samples) {
@@ -147,13 +148,13 @@ std::string synthetic_fabric_yaml(const SyntheticShellOptions& o, const std::str
 
 void write_synthetic_shell_fabric(const SyntheticShellOptions& o, const fs::path& folder, bool overwrite) {
   if (fs::exists(folder / "fabric.yaml") && !overwrite)
-    throw std::runtime_error((folder / "fabric.yaml").string() + ": exists; pass --force to replace it");
+    throw Error(ErrorCategory::conflict, (folder / "fabric.yaml").string() + ": exists; pass --force to replace it");
   if (!o.bending_directions.empty()) {
     for (double k : o.params.bending.ktheta)
       if (!(k > 0.0 && std::isfinite(k)))
-        throw std::invalid_argument("bending tests need positive k_theta for weft, bias and warp");
+        throw Error(ErrorCategory::input, "bending tests need positive k_theta for weft, bias and warp");
     if (!(o.areal_density > 0.0 && std::isfinite(o.areal_density)))
-      throw std::invalid_argument("bending tests need a positive areal density");
+      throw Error(ErrorCategory::input, "bending tests need a positive areal density");
   }
   fs::create_directories(folder);
   std::mt19937 rng(o.seed);
@@ -166,8 +167,8 @@ void write_synthetic_shell_fabric(const SyntheticShellOptions& o, const fs::path
       csv = simulate_stretch_csv(o.params.inplane, synthetic_stretch_setup(o, dir), s_max, o.points,
                                  "simulated by yarnfit synth shell from the ground_truth parameters" + noise_note, 12,
                                  o.noise, &rng);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error("synthetic " + std::string(db::to_string(dir)) + " test: " + e.what());
+    } catch (const Error& e) {
+      throw with_context("synthetic " + std::string(db::to_string(dir)) + " test: ", e);
     }
     const std::string name = "stretch_" + std::string(db::to_string(dir)) + ".csv";
     db::write_text_file_atomically(folder / name, csv);
@@ -180,8 +181,8 @@ void write_synthetic_shell_fabric(const SyntheticShellOptions& o, const fs::path
       csv = simulate_bending_csv(o.params, synthetic_bending_setup(o, dir), synthetic_clamp_distances(o.bending_points),
                                  "pear loop simulated by yarnfit synth shell from the ground_truth parameters" + noise_note,
                                  12, o.noise, &rng);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error("synthetic " + std::string(db::to_string(dir)) + " bending test: " + e.what());
+    } catch (const Error& e) {
+      throw with_context("synthetic " + std::string(db::to_string(dir)) + " bending test: ", e);
     }
     const std::string name = "bend_" + std::string(db::to_string(dir)) + ".csv";
     db::write_text_file_atomically(folder / name, csv);

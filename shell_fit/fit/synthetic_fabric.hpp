@@ -57,7 +57,7 @@ PearLoopSetup synthetic_bending_setup(const SyntheticShellOptions& options, db::
 // "stretch,force_N,compression", the rest state 0,0,0 and one row per stretch
 // s_max·i/(points − 1), i = 1 … points − 1, values with `digits` significant digits. With
 // `noise` > 0 each force and compression is multiplied by 1 + noise·N(0, 1) drawn from `rng`
-// (force clipped at 0). Throws std::runtime_error when a simulation fails.
+// (force clipped at 0). Throws an Error when a simulation fails.
 std::string simulate_stretch_csv(const InplaneParams& params, const ClampedStretchSetup& setup, double max_stretch,
                                  int points, const std::string& comment, int digits = 12, double noise = 0.0,
                                  std::mt19937* rng = nullptr);
@@ -67,15 +67,15 @@ std::vector<double> synthetic_clamp_distances(int points);
 
 // The CSV text of a simulated pear-loop test: a comment line, the header
 // "clamp_distance_mm,aspect_ratio,height_mm,width_mm" (the last two informative) and one row
-// per distance [m]. Noise as above, on the aspect ratio. Throws std::runtime_error when a
+// per distance [m]. Noise as above, on the aspect ratio. Throws an Error when a
 // loop does not reach equilibrium.
 std::string simulate_bending_csv(const ShellParams& params, const PearLoopSetup& setup,
                                  const std::vector<double>& clamp_distances, const std::string& comment,
                                  int digits = 12, double noise = 0.0, std::mt19937* rng = nullptr);
 
 // Simulates the tests and writes FOLDER/fabric.yaml, stretch_<dir>.csv and, with bending
-// directions, bend_<dir>.csv. Throws std::invalid_argument for options that cannot be
-// simulated (e.g. a bending test without positive k_θ or density), std::runtime_error when a
+// directions, bend_<dir>.csv. Throws an input Error for options that cannot be
+// simulated (e.g. a bending test without positive k_θ or density), an Error when a
 // simulation fails or a file cannot be written; refuses to replace an existing fabric.yaml
 // unless `overwrite`.
 void write_synthetic_shell_fabric(const SyntheticShellOptions& options, const std::filesystem::path& folder,

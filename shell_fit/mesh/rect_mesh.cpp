@@ -1,4 +1,5 @@
 #include "shell_fit/mesh/rect_mesh.hpp"
+#include "numerics/util/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,14 +22,14 @@ std::string describe(double v) {
 
 void require_positive(double v, const char* what) {
   if (!(std::isfinite(v) && v > 0.0)) {
-    throw std::invalid_argument(std::string(what) + " must be positive and finite, got " +
+    throw Error(ErrorCategory::input, std::string(what) + " must be positive and finite, got " +
                                 describe(v));
   }
 }
 
 void require_even_cells(int n, const char* what) {
   if (n < 2 || n % 2 != 0) {
-    throw std::invalid_argument(std::string(what) + " must be even and at least 2, got " +
+    throw Error(ErrorCategory::input, std::string(what) + " must be even and at least 2, got " +
                                 std::to_string(n) +
                                 " (an even count puts a node line on the swatch's mid-line)");
   }
@@ -48,7 +49,7 @@ ShellMesh make_rect_mesh(double length, double width, int nx, int ny, double mat
   require_even_cells(nx, "rect mesh nx (cells along the length)");
   require_even_cells(ny, "rect mesh ny (cells across the width)");
   if (!std::isfinite(material_angle)) {
-    throw std::invalid_argument("rect mesh material_angle must be finite, got " +
+    throw Error(ErrorCategory::input, "rect mesh material_angle must be finite, got " +
                                 describe(material_angle));
   }
 
@@ -172,7 +173,7 @@ std::vector<int> vertices_at_y(const ShellMesh& mesh, double y, double tol) {
 
 MaterialPoint locate(const ShellMesh& mesh, const Eigen::Vector2d& rest_point) {
   if (!rest_point.allFinite()) {
-    throw std::invalid_argument("locate: rest point is not finite");
+    throw Error(ErrorCategory::input, "locate: rest point is not finite");
   }
   // The smallest barycentric weight measures how deep inside a triangle the point is; the
   // triangle that maximises it is the containing one (ties on shared edges go to the first).
@@ -200,7 +201,7 @@ MaterialPoint locate(const ShellMesh& mesh, const Eigen::Vector2d& rest_point) {
     std::ostringstream msg;
     msg << "locate: rest point (" << rest_point.x() << ", " << rest_point.y()
         << ") m lies outside the mesh";
-    throw std::invalid_argument(msg.str());
+    throw Error(ErrorCategory::input, msg.str());
   }
   // Rounding can leave a weight at −1e-16 for a point on an edge; clamp and renormalise so
   // the interpolation stays a convex combination.
@@ -212,12 +213,12 @@ MaterialPoint locate(const ShellMesh& mesh, const Eigen::Vector2d& rest_point) {
 Eigen::VectorXd deformed_position(const MaterialPoint& point, const ShellMesh& mesh,
                                   const Eigen::VectorXd& x, int dim) {
   if (dim < 1 || x.size() != static_cast<Eigen::Index>(dim) * mesh.vertex_count()) {
-    throw std::invalid_argument("deformed_position: x has " + std::to_string(x.size()) +
+    throw Error(ErrorCategory::input, "deformed_position: x has " + std::to_string(x.size()) +
                                 " entries, expected dim·#V = " + std::to_string(dim) + "·" +
                                 std::to_string(mesh.vertex_count()));
   }
   if (point.triangle < 0 || point.triangle >= mesh.triangle_count()) {
-    throw std::invalid_argument("deformed_position: triangle " + std::to_string(point.triangle) +
+    throw Error(ErrorCategory::input, "deformed_position: triangle " + std::to_string(point.triangle) +
                                 " is out of range (mesh has " +
                                 std::to_string(mesh.triangle_count()) + ")");
   }
@@ -231,7 +232,7 @@ Eigen::VectorXd deformed_position(const MaterialPoint& point, const ShellMesh& m
 
 Eigen::VectorXd rest_state(const ShellMesh& mesh, int dim) {
   if (dim != 2 && dim != 3) {
-    throw std::invalid_argument("rest_state: dim must be 2 or 3, got " + std::to_string(dim));
+    throw Error(ErrorCategory::input, "rest_state: dim must be 2 or 3, got " + std::to_string(dim));
   }
   Eigen::VectorXd x = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dim) * mesh.vertex_count());
   for (int v = 0; v < mesh.vertex_count(); ++v) {

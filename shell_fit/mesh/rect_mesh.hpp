@@ -19,7 +19,7 @@
 namespace yarnfit::shell {
 
 // Rectangle [0, length] × [-width/2, width/2] [m] with nx × ny cells; interior edges built.
-// Throws std::invalid_argument unless length, width > 0 and finite, nx, ny ≥ 2 and even, and
+// Throws an input Error unless length, width > 0 and finite, nx, ny ≥ 2 and even, and
 // material_angle [rad] is finite.
 ShellMesh make_rect_mesh(double length, double width, int nx, int ny, double material_angle);
 
@@ -31,7 +31,7 @@ ShellMesh refine(const ShellMesh& mesh);
 
 // Grid resolution (nx, ny), both even and ≥ 2, whose cells are close to square with edges
 // close to `target_edge` [m]: nx from length/target_edge, then ny from the resulting cell
-// length. Throws std::invalid_argument for non-positive or non-finite inputs.
+// length. Throws an input Error for non-positive or non-finite inputs.
 std::pair<int, int> default_resolution(double length, double width, double target_edge);
 
 // Default distance [m] within which a vertex counts as lying on a query line: far above the
@@ -57,13 +57,13 @@ struct MaterialPoint {
 };
 
 // The material point at `rest_point` [m]. Points on an edge or vertex are given to the
-// triangle where they are deepest inside. Throws std::invalid_argument if the point lies
+// triangle where they are deepest inside. Throws an input Error if the point lies
 // outside the mesh (beyond a tolerance of 1e-9 relative to the triangle).
 MaterialPoint locate(const ShellMesh& mesh, const Eigen::Vector2d& rest_point);
 
 // Deformed position (dim entries) of a material point: the barycentric interpolation of its
 // triangle's vertices in x (flat, dim per vertex). Exact for affine deformations. Throws
-// std::invalid_argument if x.size() ≠ dim·#V or the point's triangle is out of range.
+// an input Error if x.size() ≠ dim·#V or the point's triangle is out of range.
 Eigen::VectorXd deformed_position(const MaterialPoint& point, const ShellMesh& mesh,
                                   const Eigen::VectorXd& x, int dim);
 

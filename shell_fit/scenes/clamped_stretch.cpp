@@ -9,6 +9,7 @@
 
 #include "numerics/roots/bracketed_root.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
 #include "shell_fit/mesh/rect_mesh.hpp"
 
@@ -64,7 +65,7 @@ int nearest_vertex(const ShellMesh& mesh, const Eigen::Vector2d& p) {
 
 ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_setup(setup) {
   if (!(setup.length > 0.0 && setup.width > 0.0))
-    throw std::invalid_argument("clamped stretch: length and width must be positive");
+    throw Error(ErrorCategory::input, "clamped stretch: length and width must be positive");
   int nx = setup.nx, ny = setup.ny;
   if (nx == 0 || ny == 0) std::tie(nx, ny) = default_resolution(setup.length, setup.width, setup.target_edge);
   m_mesh = make_rect_mesh(setup.length, setup.width, nx, ny, setup.material_angle);
@@ -81,7 +82,7 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
   const double mid = 0.5 * setup.length;
   if (setup.gauge_length) {
     if (!(*setup.gauge_length > 0.0 && *setup.gauge_length < setup.length))
-      throw std::invalid_argument("clamped stretch: gauge length must lie between the clamps");
+      throw Error(ErrorCategory::input, "clamped stretch: gauge length must lie between the clamps");
     m_len_a = point_weights(m_mesh, {mid - 0.5 * *setup.gauge_length, 0.0});
     m_len_b = point_weights(m_mesh, {mid + 0.5 * *setup.gauge_length, 0.0});
     m_rest_len = *setup.gauge_length;
@@ -91,7 +92,7 @@ ClampedStretchScene::ClampedStretchScene(const ClampedStretchSetup& setup) : m_s
   }
   if (setup.gauge_width) {
     if (!(*setup.gauge_width > 0.0 && *setup.gauge_width <= setup.width))
-      throw std::invalid_argument("clamped stretch: gauge width must lie on the fabric");
+      throw Error(ErrorCategory::input, "clamped stretch: gauge width must lie on the fabric");
     m_wid_a = point_weights(m_mesh, {mid, -0.5 * *setup.gauge_width});
     m_wid_b = point_weights(m_mesh, {mid, 0.5 * *setup.gauge_width});
     m_rest_wid = *setup.gauge_width;

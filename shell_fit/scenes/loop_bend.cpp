@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/energies/bending_term.hpp"
 #include "shell_fit/energies/gravity_term.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
@@ -37,7 +38,7 @@ double bisect(F f, double lo, double hi) {
 }  // namespace
 
 double elastica_clamped_push(double span, double length) {
-  if (!(span > 0.0 && span < length)) throw std::invalid_argument("elastica: the span must lie in (0, L)");
+  if (!(span > 0.0 && span < length)) throw Error(ErrorCategory::input, "elastica: the span must lie in (0, L)");
   const double ratio = span / length;
   // d/L = 2E(k)/K(k) − 1 falls from 1 (k = 0) towards −1 (k → 1).
   const double k = bisect([&](double m) { return 2.0 * std::comp_ellint_2(m) / std::comp_ellint_1(m) - 1.0 - ratio; },
@@ -49,12 +50,12 @@ double elastica_clamped_push(double span, double length) {
 LoopBendScene::LoopBendScene(const LoopBendSetup& setup) : m_setup(setup) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (!positive(setup.length) || !positive(setup.width))
-    throw std::invalid_argument("loop bend: length and width must be positive and finite");
+    throw Error(ErrorCategory::input, "loop bend: length and width must be positive and finite");
   if (!std::isfinite(setup.areal_density) || setup.areal_density < 0.0 || !std::isfinite(setup.gravity) ||
       setup.gravity < 0.0)
-    throw std::invalid_argument("loop bend: areal density and gravity must be finite and ≥ 0");
+    throw Error(ErrorCategory::input, "loop bend: areal density and gravity must be finite and ≥ 0");
   const int n = setup.cells_along == 0 ? k_default_cells_along : setup.cells_along;
-  if (n < 4 || n % 2 != 0) throw std::invalid_argument("loop bend: cells_along must be even and ≥ 4");
+  if (n < 4 || n % 2 != 0) throw Error(ErrorCategory::input, "loop bend: cells_along must be even and ≥ 4");
   int n_across = setup.cells_across;
   // Cells four times longer than wide: their diagonals then run nearly along the pull, across
   // the fold lines, and stay flat. With square cells the diagonals' hinges take a share of the
@@ -63,8 +64,8 @@ LoopBendScene::LoopBendScene(const LoopBendSetup& setup) : m_setup(setup) {
   // most of that); at 4:1 it is within 1.5 % (tests/shell_fit/test_loop_bend.cpp).
   if (n_across == 0)
     n_across = std::max(2, 2 * static_cast<int>(std::lround(0.5 * k_cell_aspect * setup.width * (n + 1) / setup.length)));
-  if (n_across < 2 || n_across % 2 != 0) throw std::invalid_argument("loop bend: cells_across must be even and ≥ 2");
-  if (setup.refinements < 0) throw std::invalid_argument("loop bend: refinements must be ≥ 0");
+  if (n_across < 2 || n_across % 2 != 0) throw Error(ErrorCategory::input, "loop bend: cells_across must be even and ≥ 2");
+  if (setup.refinements < 0) throw Error(ErrorCategory::input, "loop bend: refinements must be ≥ 0");
   // The hinge on a clamp's edge spreads its fold over half of each neighbouring cell, so a
   // discrete clamp acts half a cell inside its clamped cell. The free mesh is therefore one
   // cell shorter than L and the clamped columns stand half a cell inwards: the strip then
@@ -85,7 +86,7 @@ LoopBendScene::LoopBendScene(const LoopBendSetup& setup) : m_setup(setup) {
 Eigen::VectorXd LoopBendScene::initial_state(double clamp_distance) const {
   const double L = m_setup.length, d = clamp_distance;
   if (!(std::isfinite(d) && d > 0.0 && d < L))
-    throw std::invalid_argument("loop bend: the clamp distance must lie between 0 and the strip's length");
+    throw Error(ErrorCategory::input, "loop bend: the clamp distance must lie between 0 and the strip's length");
   // J₀ falls from 1 at a = 0 to 0 at its first root 2.405.
   const double a = bisect([&](double t) { return std::cyl_bessel_j(0.0, t) - d / L; }, 0.0, 2.404825557695773);
   const double sign = m_setup.direction == LoopDirection::up ? 1.0 : -1.0;
@@ -151,7 +152,7 @@ LoopBendRun LoopBendScene::run(const ShellParams& params, const std::vector<doub
     Eigen::VectorXd x;
     try {
       x = initial_state(d);
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       sample.message = e.what();
     }
     NewtonSummary summary;

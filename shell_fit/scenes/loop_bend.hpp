@@ -72,7 +72,7 @@ struct LoopBendRun {
 
 class LoopBendScene {
  public:
-  // Throws std::invalid_argument for non-positive or non-finite sizes, negative density or
+  // Throws an input Error for non-positive or non-finite sizes, negative density or
   // gravity, or odd cell counts.
   explicit LoopBendScene(const LoopBendSetup& setup);
 
@@ -83,7 +83,7 @@ class LoopBendScene {
   [[nodiscard]] LoopBendRun run(const ShellParams& params, const std::vector<double>& clamp_distances,
                                 std::vector<Eigen::VectorXd>* warm = nullptr) const;
 
-  // The start state at d: the buckling mode laid isometrically; throws std::invalid_argument
+  // The start state at d: the buckling mode laid isometrically; throws an input Error
   // unless 0 < d < L.
   [[nodiscard]] Eigen::VectorXd initial_state(double clamp_distance) const;
 

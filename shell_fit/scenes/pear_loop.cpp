@@ -11,6 +11,7 @@
 
 #include "numerics/roots/bracketed_root.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "shell_fit/energies/bending_term.hpp"
 #include "shell_fit/energies/gravity_term.hpp"
 #include "shell_fit/energies/membrane_term.hpp"
@@ -105,22 +106,22 @@ double ktheta_for_bending_length(double length, double areal_density, double g) 
 PearLoopScene::PearLoopScene(const PearLoopSetup& setup) : m_setup(setup) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (!positive(setup.length) || !positive(setup.width))
-    throw std::invalid_argument("pear loop: length and width must be positive and finite");
+    throw Error(ErrorCategory::input, "pear loop: length and width must be positive and finite");
   if (!std::isfinite(setup.areal_density) || setup.areal_density < 0.0 || !std::isfinite(setup.gravity) ||
       setup.gravity < 0.0)
-    throw std::invalid_argument("pear loop: areal density and gravity must be finite and ≥ 0");
-  if (!std::isfinite(setup.material_angle)) throw std::invalid_argument("pear loop: material angle must be finite");
+    throw Error(ErrorCategory::input, "pear loop: areal density and gravity must be finite and ≥ 0");
+  if (!std::isfinite(setup.material_angle)) throw Error(ErrorCategory::input, "pear loop: material angle must be finite");
   int n = setup.cells_along;
   if (n == 0) {
-    if (!positive(setup.target_edge)) throw std::invalid_argument("pear loop: target_edge must be positive");
+    if (!positive(setup.target_edge)) throw Error(ErrorCategory::input, "pear loop: target_edge must be positive");
     n = std::max(2, 2 * static_cast<int>(std::lround(0.5 * setup.length / setup.target_edge)));
   }
-  if (n < 2 || n % 2 != 0) throw std::invalid_argument("pear loop: cells_along must be even and ≥ 2");
+  if (n < 2 || n % 2 != 0) throw Error(ErrorCategory::input, "pear loop: cells_along must be even and ≥ 2");
   int n_across = setup.cells_across;
   if (n_across == 0) n_across = std::max(2, 2 * static_cast<int>(std::lround(0.5 * setup.width * n / setup.length)));
   if (n_across < 2 || n_across % 2 != 0)
-    throw std::invalid_argument("pear loop: cells_across must be even and ≥ 2");
-  if (setup.refinements < 0) throw std::invalid_argument("pear loop: refinements must be ≥ 0");
+    throw Error(ErrorCategory::input, "pear loop: cells_across must be even and ≥ 2");
+  if (setup.refinements < 0) throw Error(ErrorCategory::input, "pear loop: refinements must be ≥ 0");
 
   m_clamp = setup.length / n;
   m_mesh = make_rect_mesh(setup.length + 2.0 * m_clamp, setup.width, n + 2, n_across,
@@ -159,14 +160,14 @@ double PearLoopScene::effective_ktheta(const BendingParams& p) const {
 
 Eigen::VectorXd PearLoopScene::initial_state(double clamp_distance) const {
   const double L = m_setup.length, S = 0.5 * L, d = clamp_distance;
-  if (!std::isfinite(d) || d < 0.0) throw std::invalid_argument("pear loop: clamp distance must be finite and ≥ 0");
+  if (!std::isfinite(d) || d < 0.0) throw Error(ErrorCategory::input, "pear loop: clamp distance must be finite and ≥ 0");
   constexpr int segments = 2000;
   // ∫₀^S cos θ ds decreases with a while θ stays in (−π, 0) (a ∈ [−0.5, 1.5]: the loop goes
   // from a wide U, d ≈ 0.8 L, to a pear whose ends cross, d < 0).
   constexpr double lo = -0.5, hi = 1.5;
   const auto misses = [&](double a) { return 0.5 * d - half_loop(S, a, segments).x.back(); };  // increasing in a
   if (misses(lo) > 0.0 || misses(hi) < 0.0)
-    throw std::invalid_argument("pear loop: no loop of length " + std::to_string(L) + " m closes at clamp distance " +
+    throw Error(ErrorCategory::input, "pear loop: no loop of length " + std::to_string(L) + " m closes at clamp distance " +
                                 std::to_string(d) + " m");
   numerics::RootFindOptions ro;
   ro.lower = lo;
@@ -395,7 +396,7 @@ PearLoopRun PearLoopScene::run(const ShellParams& params, const std::vector<doub
     Eigen::VectorXd x;
     try {
       x = initial_state(d);
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       sample.message = e.what();
       if (out.message.empty()) out.message = sample.message;
       out.samples.push_back(sample);

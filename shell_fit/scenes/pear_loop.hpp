@@ -127,7 +127,7 @@ struct PearLoopWarmStart {
 
 class PearLoopScene {
  public:
-  // Throws std::invalid_argument for non-positive or non-finite sizes, density or gravity,
+  // Throws an input Error for non-positive or non-finite sizes, density or gravity,
   // or odd/too small cell counts.
   explicit PearLoopScene(const PearLoopSetup& setup);
 
@@ -136,7 +136,7 @@ class PearLoopScene {
   [[nodiscard]] PearLoopRun run(const ShellParams& params, const std::vector<double>& clamp_distances,
                                 bool with_sensitivities = false, PearLoopWarmStart* warm = nullptr) const;
 
-  // The start state at clamp distance d (flat, 3 per vertex); throws std::invalid_argument
+  // The start state at clamp distance d (flat, 3 per vertex); throws an input Error
   // when no loop of length L closes at that distance.
   [[nodiscard]] Eigen::VectorXd initial_state(double clamp_distance) const;
 

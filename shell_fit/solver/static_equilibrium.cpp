@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/format.hpp"
 
 namespace yarnfit::shell {
@@ -23,7 +24,7 @@ struct FreeDofs {
   FreeDofs(Eigen::Index n, const std::vector<int>& fixed) : index_of(static_cast<std::size_t>(n), 0) {
     for (const int d : fixed) {
       if (d < 0 || d >= n) {
-        throw std::invalid_argument("solve_static: fixed DOF " + std::to_string(d) +
+        throw Error(ErrorCategory::input, "solve_static: fixed DOF " + std::to_string(d) +
                                     " is out of range (x has " + std::to_string(n) + " entries)");
       }
       index_of[static_cast<std::size_t>(d)] = -1;
@@ -137,7 +138,7 @@ Eigen::VectorXd clamp_reaction(const TermList& terms, const Eigen::VectorXd& x, 
   Eigen::VectorXd r(static_cast<Eigen::Index>(dofs.size()));
   for (std::size_t i = 0; i < dofs.size(); ++i) {
     if (dofs[i] < 0 || dofs[i] >= x.size()) {
-      throw std::invalid_argument("clamp_reaction: DOF " + std::to_string(dofs[i]) + " is out of range");
+      throw Error(ErrorCategory::input, "clamp_reaction: DOF " + std::to_string(dofs[i]) + " is out of range");
     }
     r(static_cast<Eigen::Index>(i)) = g(dofs[i]);
   }
@@ -147,7 +148,7 @@ Eigen::VectorXd clamp_reaction(const TermList& terms, const Eigen::VectorXd& x, 
 double clamp_force(const TermList& terms, const Eigen::VectorXd& x, const std::vector<int>& vertices, int dim,
                    int axis) {
   if (dim < 1 || axis < 0 || axis >= dim) {
-    throw std::invalid_argument("clamp_force: axis " + std::to_string(axis) + " is not below dim " +
+    throw Error(ErrorCategory::input, "clamp_force: axis " + std::to_string(axis) + " is not below dim " +
                                 std::to_string(dim));
   }
   std::vector<int> dofs;
@@ -192,7 +193,7 @@ Eigen::SparseMatrix<double> free_block(const Eigen::SparseMatrix<double>& h, con
 NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std::vector<int>& fixed_dofs,
                            const NewtonOptions& options) {
   if (const numerics::Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("solve_static: " + problems.one_line());
+    throw Error(ErrorCategory::input, "solve_static: " + problems.one_line());
   numerics::check_terms(terms, "solve_static");
   const FreeDofs free_dofs(x.size(), fixed_dofs);
   FreeDofProblem problem(terms, x, free_dofs);
@@ -252,8 +253,8 @@ NewtonSummary solve_continuation(const TermList& terms, Eigen::VectorXd& x, cons
                                  const SetBoundary& set_boundary, const ContinuationOptions& options) {
   const auto start = Clock::now();
   if (const numerics::Problems problems = options.problems(); !problems.empty())
-    throw std::invalid_argument("solve_continuation: " + problems.one_line());
-  if (!set_boundary) throw std::invalid_argument("solve_continuation: set_boundary is empty");
+    throw Error(ErrorCategory::input, "solve_continuation: " + problems.one_line());
+  if (!set_boundary) throw Error(ErrorCategory::input, "solve_continuation: set_boundary is empty");
   numerics::check_terms(terms, "solve_continuation");
   const FreeDofs free_dofs(x.size(), fixed_dofs);
 

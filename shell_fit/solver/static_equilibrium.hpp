@@ -39,7 +39,7 @@ using TermList = numerics::TermList;
 // Minimises the total energy over the DOFs not listed in fixed_dofs (entries of x; duplicates
 // allowed), which keep their values exactly. x is updated in place and always holds a state
 // with finite energy on return unless the status is invalid_start (then it is unchanged).
-// Throws std::invalid_argument for invalid options, an empty term list, a null term or a fixed
+// Throws an input Error for invalid options, an empty term list, a null term or a fixed
 // DOF out of range; numerical trouble is reported in the summary, never thrown.
 NewtonSummary solve_static(const TermList& terms, Eigen::VectorXd& x, const std::vector<int>& fixed_dofs,
                            const NewtonOptions& options);

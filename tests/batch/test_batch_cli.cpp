@@ -23,6 +23,7 @@
 #include "batch/batch.hpp"
 #include "batch/ledger.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "numerics/util/error.hpp"
 #include "tests/fabrics_db/fabric_fixture.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/model/yarn_params.hpp"
@@ -184,7 +185,7 @@ std::string ledger_stage(const fs::path& out, const std::string& fabric) {
   try {
     const auto job = batch::Ledger::open_read_only(batch::ledger_file(out)).job(fabric);
     return job && job->status == "running" ? job->stage : "";
-  } catch (const batch::LedgerError&) {
+  } catch (const yarnfit::Error&) {
     return "";  // not created yet
   }
 }

@@ -12,6 +12,7 @@
 #include "batch/ledger.hpp"
 #include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::testing {
 namespace {
@@ -68,7 +69,7 @@ TEST(Ledger, KeepsJobsResultsAndEventsAcrossReopeningInWalMode) {
   std::vector<std::string> events;
   for (const auto& e : ledger.events()) events.push_back(e.event);
   EXPECT_EQ(events, (std::vector<std::string>{"queued", "started", "done"}));
-  EXPECT_THROW(batch::Ledger::open_read_only(dir / "none.db"), batch::LedgerError);
+  EXPECT_ERROR(batch::Ledger::open_read_only(dir / "none.db"), yarnfit::ErrorCategory::input);
 }
 
 TEST(Ledger, AFailedTransactionLeavesNothingBehind) {
@@ -80,7 +81,7 @@ TEST(Ledger, AFailedTransactionLeavesNothingBehind) {
   job.hash = "h";
   job.options = "{}";
   job.status = "bogus";  // violates the CHECK constraint
-  EXPECT_THROW(ledger.put_job(job, "queued", "", 1.0), batch::LedgerError);
+  EXPECT_ERROR(ledger.put_job(job, "queued", "", 1.0), yarnfit::ErrorCategory::io);
   EXPECT_FALSE(ledger.job("A1"));
   EXPECT_TRUE(ledger.events().empty());  // the event was in the same transaction
   job.status = "queued";

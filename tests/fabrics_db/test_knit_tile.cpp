@@ -15,6 +15,7 @@
 #include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/knit_tile.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -169,11 +170,11 @@ TEST(KnitTile, TooShortAStitchForItsYarnIsRefusedWithTheShortestLength) {
   try {
     (void)make_knit_tile(*parse_knit_chart("stockinette"), options);
     FAIL() << "no error";
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     EXPECT_NE(std::string(e.what()).find("too short"), std::string::npos) << e.what();
   }
   options.vertices_per_stitch = 4;
-  EXPECT_THROW((void)make_knit_tile(*parse_knit_chart("stockinette"), options), std::invalid_argument);
+  EXPECT_ERROR((void)make_knit_tile(*parse_knit_chart("stockinette"), options), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

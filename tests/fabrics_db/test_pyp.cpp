@@ -10,6 +10,7 @@
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "fabrics_db/tile/synthetic_stockinette.hpp"
 #include "tests/test_support.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -462,8 +463,8 @@ TEST(PypWriter, ThrowsNamingTheFileWhenItCannotWrite) {
 TEST(PypWriter, RejectsATileWhoseArraysDisagree) {
   PeriodicTile tile = make_stockinette_tile();
   tile.rest_lengths.pop_back();
-  EXPECT_THROW((void)format_pyp(tile), std::invalid_argument);
-  EXPECT_THROW((void)format_pyp(make_stockinette_tile(), 0), std::invalid_argument);
+  EXPECT_ERROR((void)format_pyp(tile), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)format_pyp(make_stockinette_tile(), 0), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

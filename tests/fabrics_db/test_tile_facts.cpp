@@ -15,6 +15,7 @@
 #include "fabrics_db/tile/synthetic_stockinette.hpp"
 #include "numerics/util/clock.hpp"
 #include "tests/test_support.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -346,7 +347,7 @@ TEST(TileFactsAnalytic, ClosedRingTouchesItselfAcrossAUTurnOnly) {
 TEST(TileFactsAnalytic, RejectsATileThatIsNotClosedLoops) {
   PeriodicTile tile = make_stockinette_tile();
   tile.edges[3].v1 = tile.edges[5].v1;
-  EXPECT_THROW((void)compute_tile_facts(tile), std::invalid_argument);
+  EXPECT_ERROR((void)compute_tile_facts(tile), yarnfit::ErrorCategory::input);
 }
 
 TEST(TileFacts, RibIsQuick) {
@@ -509,13 +510,13 @@ TEST(StockinetteTile, RestStateIsTheGeneratedGeometry) {
 TEST(StockinetteTile, RejectsOptionsThatMakeNoTile) {
   StockinetteTileOptions bad;
   bad.vertices_per_loop = 6;
-  EXPECT_THROW((void)make_stockinette_tile(bad), std::invalid_argument);
+  EXPECT_ERROR((void)make_stockinette_tile(bad), yarnfit::ErrorCategory::input);
   bad = {};
   bad.period_y = 0.0;
   try {
     (void)make_stockinette_tile(bad);
-    FAIL() << "expected std::invalid_argument";
-  } catch (const std::invalid_argument& e) {
+    FAIL() << "expected an input Error";
+  } catch (const yarnfit::Error& e) {
     EXPECT_NE(std::string(e.what()).find("period_y"), std::string::npos) << e.what();
   }
 }

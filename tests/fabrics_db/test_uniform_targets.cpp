@@ -8,6 +8,7 @@
 
 #include "fabrics_db/targets/uniform_targets.hpp"
 #include "tests/test_support.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -77,7 +78,7 @@ std::string problems_of(const std::string& text, ScratchDir& dir) {
   write_file(file, text);
   Problems problems;
   EXPECT_FALSE(read_uniform_targets(file, problems).has_value());
-  EXPECT_THROW((void)read_uniform_targets(file), std::invalid_argument);
+  EXPECT_ERROR((void)read_uniform_targets(file), yarnfit::ErrorCategory::input);
   return problems.to_string();
 }
 

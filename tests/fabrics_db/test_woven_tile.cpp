@@ -14,6 +14,7 @@
 #include "fabrics_db/problems.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
 #include "fabrics_db/tile/woven_tile.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::db {
 namespace {
@@ -62,7 +63,7 @@ TEST(WovenTile, BadOptionsAreRefused) {
   ASSERT_FALSE(problems.empty());
   EXPECT_EQ(problems.items()[0].field, "yarn_spacing");
   EXPECT_NE(o.problems().to_string().find("at least twice the yarn radius"), std::string::npos) << o.problems().to_string();
-  EXPECT_THROW(make_woven_tile(*chart, o), std::invalid_argument);
+  EXPECT_ERROR(make_woven_tile(*chart, o), yarnfit::ErrorCategory::input);
   o.yarn_spacing = 1.5e-3;
   o.vertices_per_crossing = 2;
   EXPECT_NE(o.problems().to_string().find("vertices_per_crossing: must be at least 3"), std::string::npos)

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "tests/expect_error.hpp"
 #include "tests/test_support.hpp"
 
 #include "results/tile_file.hpp"
@@ -48,9 +49,21 @@ TEST(TileFile, ABadFieldIsNamed) {
   try {
     (void)tile_file_from_json(v1, "t.json");
     FAIL() << "no error";
-  } catch (const std::runtime_error& e) {
+  } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), "t.json: period_mm: expected two numbers (weft, warp)");
+    EXPECT_EQ(e.category(), ErrorCategory::input);
   }
+}
+
+// What the user can do differs: a file that is not there (io) or one that is not a tile record
+// (input).
+TEST(TileFile, AMissingFileIsAnIoErrorAndAWrongOneAnInputError) {
+  const testing::ScratchDir dir("tile_file_errors");
+  EXPECT_ERROR((void)read_tile_file(dir / "none.json"), ErrorCategory::io);
+  testing::write_file(dir / "list.json", "[1, 2]\n");
+  EXPECT_ERROR((void)read_tile_file(dir / "list.json"), ErrorCategory::input);
+  testing::write_file(dir / "text.json", "not JSON\n");
+  EXPECT_ERROR((void)read_tile_file(dir / "text.json"), ErrorCategory::input);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "swarm/cobyla.hpp"
+#include "numerics/util/error.hpp"
 #include "swarm/particle_swarm.hpp"
 #include "tests/swarm/benchmark_functions.hpp"
 
@@ -193,7 +194,7 @@ TEST(Cobyla, InvalidSettingsAndStartNameTheField) {
   auto message_of = [&](const CobylaSettings& s, const Eigen::VectorXd& start) {
     try {
       (void)run_cobyla(b.space(), b.f, start, s);
-    } catch (const std::invalid_argument& e) {
+    } catch (const yarnfit::Error& e) {
       return std::string(e.what());
     }
     return std::string("no error");

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "swarm/cobyla.hpp"
+#include "numerics/util/error.hpp"
 #include "swarm/implicit_filtering.hpp"
 
 namespace yarnfit::swarm {
@@ -276,7 +277,7 @@ TEST(ImplicitFiltering, InvalidSettingsAndStartNameTheField) {
   auto message_of = [&](const ImplicitFilteringSettings& s, const Eigen::VectorXd& start) {
     try {
       (void)run_implicit_filtering(space, f, start, s);
-    } catch (const std::invalid_argument& e) {
+    } catch (const yarnfit::Error& e) {
       return std::string(e.what());
     }
     return std::string("no error");

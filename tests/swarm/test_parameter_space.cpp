@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "swarm/parameter_space.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::swarm {
 namespace {
@@ -13,7 +14,7 @@ namespace {
 std::string message_of(std::vector<Parameter> ps) {
   try {
     (void)ParameterSpace(std::move(ps));
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     return e.what();
   }
   return "no error";
@@ -50,11 +51,11 @@ TEST(ParameterSpace, PointsOutsideTheBoundsAreRejectedByName) {
   try {
     (void)space.to_unit(Eigen::VectorXd::Constant(1, 0.2));
     FAIL() << "no error";
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     EXPECT_STREQ(e.what(), "'eps_s' (parameter 0) = 0.2 is outside its bounds [0, 0.15]");
   }
-  EXPECT_THROW((void)space.to_unit(Eigen::VectorXd::Constant(1, NAN)), std::invalid_argument);
-  EXPECT_THROW((void)space.to_unit(Eigen::VectorXd::Zero(2)), std::invalid_argument);
+  EXPECT_ERROR((void)space.to_unit(Eigen::VectorXd::Constant(1, NAN)), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)space.to_unit(Eigen::VectorXd::Zero(2)), yarnfit::ErrorCategory::input);
 }
 
 
@@ -67,7 +68,7 @@ TEST(ParameterSpace, BoundsProblemsNameEveryCoordinateOutside) {
   EXPECT_EQ(p[0], "ks1: 20 is outside the search bounds [0.1, 10]");
   EXPECT_EQ(p[1], "R1: 0.5 is outside the search bounds [1, 2]");
   EXPECT_EQ(space.bounds_problems(Eigen::Vector3d(0.5, -1.0, 1.0)).front(), "x[1]: -1 is outside the search bounds [0, 1]");
-  EXPECT_THROW((void)space.bounds_problems(Eigen::Vector2d(1.0, 0.5)), std::invalid_argument);
+  EXPECT_ERROR((void)space.bounds_problems(Eigen::Vector2d(1.0, 0.5)), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "swarm/random.hpp"
 #include "tests/swarm/benchmark_functions.hpp"
 #include "tests/test_support.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::swarm {
 namespace {
@@ -362,7 +363,7 @@ TEST(ParticleSwarm, InvalidSettingsNameTheField) {
   auto message_of = [&](const SwarmSettings& s) {
     try {
       (void)run_swarm(b.space(), b.f, s);
-    } catch (const std::invalid_argument& e) {
+    } catch (const yarnfit::Error& e) {
       return std::string(e.what());
     }
     return std::string("no error");
@@ -401,7 +402,7 @@ TEST(RandomStream, StandardEngineOwnDistributionsAndExactStateRoundTrip) {
   RandomStream b(1);
   b.restore(a.state());
   for (int k = 0; k < 100; ++k) ASSERT_EQ(a.uniform(), b.uniform());
-  EXPECT_THROW(b.restore("12 not a state"), std::invalid_argument);
+  EXPECT_ERROR(b.restore("12 not a state"), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::yarn {
@@ -199,7 +200,7 @@ class Alternation {
         m_out(out), m_residuals(2 * objective.options().samples * static_cast<int>(objective.scales().size())) {
     for (const auto& p : space.parameters()) {
       const auto param = yarn::yarn_param_from_string(p.name);
-      if (!param) throw std::invalid_argument("alternation: '" + p.name + "' is not a yarn parameter");
+      if (!param) throw Error(ErrorCategory::input, "alternation: '" + p.name + "' is not a yarn parameter");
       m_wanted.push_back(*param);
     }
   }
@@ -431,7 +432,7 @@ void fall_back(const YarnObjective& objective, const swarm::ParameterSpace& spac
   out.fell_back = true;
   const swarm::ResidualObjective residuals = [&](const Eigen::VectorXd& x) {
     const ObjectiveResult r = objective.evaluate(to_params(x));
-    if (!r.ok) throw std::runtime_error(r.message);
+    if (!r.ok) throw Error(ErrorCategory::solve, r.message);
     return residual_vector(r);
   };
   const int before = out.evaluations;
@@ -480,9 +481,9 @@ AlternationSummary run_alternation(const YarnObjective& objective, const swarm::
                                    const PointToParams& to_params, const Eigen::VectorXd& start,
                                    const AlternationSettings& settings, const AlternationProgress& progress) {
   if (const db::Problems problems = settings.problems(); !problems.empty())
-    throw std::invalid_argument("alternation settings: " + problems.one_line());
+    throw Error(ErrorCategory::input, "alternation settings: " + problems.one_line());
   if (const auto outside = space.bounds_problems(start); !outside.empty())
-    throw std::invalid_argument("alternation start: " + outside.front());
+    throw Error(ErrorCategory::input, "alternation start: " + outside.front());
   const auto t0 = Clock::now();
   AlternationSummary out;
   out.best_value = out.start_value = k_inf;

@@ -108,7 +108,7 @@ using PointToParams = std::function<yarn::YarnParams(const Eigen::VectorXd&)>;
 using AlternationProgress = std::function<void(int evaluations, double best)>;
 
 // The space's parameter names must be YarnParams keys (yarn_param_from_string). Throws
-// std::invalid_argument for invalid settings, a start outside the bounds or an unknown name;
+// an input Error for invalid settings, a start outside the bounds or an unknown name;
 // numerical trouble is reported in the summary.
 AlternationSummary run_alternation(const YarnObjective& objective, const swarm::ParameterSpace& space,
                                    const PointToParams& to_params, const Eigen::VectorXd& start,

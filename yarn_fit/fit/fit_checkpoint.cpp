@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "swarm/checkpoint_json.hpp"
 
 namespace yarnfit::yarn {
@@ -73,11 +74,11 @@ T get(const json& j, const char* key) {
 // A number as json_number wrote it; anything else is a damaged checkpoint, never a NaN.
 double real(const json& j) {
   if (const auto v = swarm::json_real(j)) return *v;
-  throw std::runtime_error("expected a number, got " + j.dump());
+  throw Error(ErrorCategory::input, "expected a number, got " + j.dump());
 }
 
 Eigen::VectorXd vector_of(const json& j) {
-  if (!j.is_array()) throw std::runtime_error("expected an array of numbers, got " + j.dump());
+  if (!j.is_array()) throw Error(ErrorCategory::input, "expected an array of numbers, got " + j.dump());
   Eigen::VectorXd v(static_cast<Eigen::Index>(j.size()));
   for (std::size_t i = 0; i < j.size(); ++i) v[static_cast<Eigen::Index>(i)] = in("[" + std::to_string(i) + "]", [&] { return real(j[i]); });
   return v;
@@ -93,7 +94,7 @@ Eigen::VectorXd vector_at(const json& j, const char* key) {
 }
 
 Eigen::MatrixXd matrix_of(const json& j) {
-  if (!j.is_array()) throw std::runtime_error("expected an array of columns, got " + j.dump());
+  if (!j.is_array()) throw Error(ErrorCategory::input, "expected an array of columns, got " + j.dump());
   if (j.empty()) return {};
   if (!j[0].is_array()) throw BadField{"[0]", "expected an array of numbers, got " + j[0].dump()};
   Eigen::MatrixXd m(static_cast<Eigen::Index>(j[0].size()), static_cast<Eigen::Index>(j.size()));
@@ -200,11 +201,11 @@ FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file) {
       else out.local.emplace_back(in(indexed("local", i), [&] { return run_of(local[i]); }));
     }
   } catch (const BadField& e) {
-    throw std::runtime_error("fit checkpoint " + file.string() + ": " + e.path + ": " + e.reason);
+    throw Error(ErrorCategory::input, "fit checkpoint " + file.string() + ": " + e.path + ": " + e.reason);
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error("fit checkpoint " + file.string() + ": " + e.what());
+    throw Error(ErrorCategory::input, "fit checkpoint " + file.string() + ": " + e.what());
   } catch (const json::exception& e) {
-    throw std::runtime_error("fit checkpoint " + file.string() + ": " + e.what());
+    throw Error(ErrorCategory::input, "fit checkpoint " + file.string() + ": " + e.what());
   }
   return out;
 }

@@ -26,9 +26,9 @@ struct FitCheckpoint {
   std::vector<std::optional<AlternationSummary>> local;  // per start, when that run finished
 };
 
-// Throws std::runtime_error naming the file and the field when it cannot be read.
+// Throws an Error naming the file and the field when it cannot be read.
 FitCheckpoint read_fit_checkpoint(const std::filesystem::path& file);
-// Written atomically; throws std::runtime_error naming the file when it cannot be.
+// Written atomically; throws an Error naming the file when it cannot be.
 void write_fit_checkpoint(const std::filesystem::path& file, const FitCheckpoint& checkpoint);
 // Removes the file and its stages' swarm checkpoints beside it (what a fit starting afresh does).
 void remove_fit_checkpoint(const std::filesystem::path& file);

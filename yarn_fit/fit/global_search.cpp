@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "yarn_fit/fit/fit_progress.hpp"
 #include "numerics/util/clock.hpp"
 #include "numerics/util/non_finite.hpp"
@@ -49,7 +50,7 @@ GlobalStage run_stage(const std::string& name, const GlobalSearchInput& in, cons
   std::atomic<int> stopped{0};
   const swarm::ParticleObjective f = [&](const Eigen::VectorXd& x, const swarm::ParticleContext& c) {
     const ObjectiveResult r = objective.evaluate(in.to_params(embed(x)), in.cutoff ? c.cutoff : k_inf);
-    if (!r.ok) throw std::runtime_error(r.message);
+    if (!r.ok) throw Error(ErrorCategory::solve, r.message);
     if (r.lower_bound) ++stopped;
     return r.value;
   };
@@ -167,7 +168,7 @@ db::Problems StagedSearchSettings::problems() const {
 
 GlobalSearchResult run_staged_search(const GlobalSearchInput& in, const StagedSearchSettings& s) {
   if (const db::Problems problems = s.problems(); !problems.empty())
-    throw std::invalid_argument("staged search: " + problems.one_line());
+    throw Error(ErrorCategory::input, "staged search: " + problems.one_line());
   const auto start = Clock::now();
   GlobalSearchResult out;
   const swarm::ParameterSpace& full = *in.space;

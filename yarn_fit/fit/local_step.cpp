@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "swarm/cobyla.hpp"
 
 namespace yarnfit::yarn {
@@ -64,7 +65,7 @@ void implicit_filtering(const YarnObjective& f, const swarm::ParameterSpace& spa
   is.threads = s.threads;
   const swarm::ResidualObjective residuals = [&](const Eigen::VectorXd& x) {
     const ObjectiveResult r = f.evaluate(to_params(x));
-    if (!r.ok) throw std::runtime_error(r.message);
+    if (!r.ok) throw Error(ErrorCategory::solve, r.message);
     return residual_vector(r);
   };
   const swarm::ImplicitFilteringSummary r = swarm::run_implicit_filtering(
@@ -88,7 +89,7 @@ void cobyla(const YarnObjective& f, const swarm::ParameterSpace& space, const Po
   double best = std::numeric_limits<double>::infinity();
   const swarm::Objective g = [&](const Eigen::VectorXd& x) {
     const ObjectiveResult r = f.evaluate(to_params(x));
-    if (!r.ok) throw std::runtime_error(r.message);
+    if (!r.ok) throw Error(ErrorCategory::solve, r.message);
     best = std::min(best, r.value);
     if (progress) progress(++step, best);
     return r.value;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "numerics/util/non_finite.hpp"
 
 namespace yarnfit::yarn {
@@ -45,9 +46,9 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
                                     const Eigen::VectorXd& x_fit, const ObjectiveResult& at_fit,
                                     const std::function<yarn::YarnParams(const Eigen::VectorXd&)>& to_params,
                                     double step, int threads) {
-  if (!(step > 0.0 && step < 1.0)) throw std::invalid_argument("parameter profile: step must be in (0, 1)");
+  if (!(step > 0.0 && step < 1.0)) throw Error(ErrorCategory::input, "parameter profile: step must be in (0, 1)");
   if (x_fit.size() != space.dimension())
-    throw std::invalid_argument("parameter profile: the fitted point has the wrong size");
+    throw Error(ErrorCategory::input, "parameter profile: the fitted point has the wrong size");
   const auto start = numerics::Clock::now();
   ParameterProfile out;
   out.step = step;
@@ -116,9 +117,9 @@ ParameterProfile profile_parameters(const YarnObjective& objective, const swarm:
 ParameterProfile profile_from_jacobian(const swarm::ParameterSpace& space, const Eigen::VectorXd& x_fit,
                                        const Eigen::VectorXd& residuals, const Eigen::MatrixXd& jacobian_log,
                                        double step) {
-  if (!(step > 0.0 && step < 1.0)) throw std::invalid_argument("parameter profile: step must be in (0, 1)");
+  if (!(step > 0.0 && step < 1.0)) throw Error(ErrorCategory::input, "parameter profile: step must be in (0, 1)");
   if (jacobian_log.cols() != space.dimension() || jacobian_log.rows() != residuals.size())
-    throw std::invalid_argument("parameter profile: the Jacobian does not match the space and the residuals");
+    throw Error(ErrorCategory::input, "parameter profile: the Jacobian does not match the space and the residuals");
   ParameterProfile out;
   out.from_jacobian = true;
   out.step = step;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "yarn_fit/fit/fit_checkpoint.hpp"
 #include "yarn_fit/fit/fit_progress.hpp"
 #include "fabrics_db/text_util.hpp"
@@ -323,14 +324,14 @@ void finish_fit(const FitRun& run, const yarn::YarnTile& tile, const std::vector
 YarnFitResult fit_yarn_params(const yarn::YarnTile& tile, const std::vector<db::DirectionTargets>& targets,
                               const yarn::ParameterScales& scales, const YarnFitSettings& settings) {
   if (const db::Problems problems = settings.problems(); !problems.empty())
-    throw std::invalid_argument("yarn fit settings: " + problems.one_line());
+    throw Error(ErrorCategory::input, "yarn fit settings: " + problems.one_line());
   if (!settings.swarm && settings.start) {  // checked before anything else
     const auto outside = yarn_parameter_space(scales, settings.linear_stretch)
                              .bounds_problems(point_from_params(*settings.start, settings.linear_stretch));
     if (!outside.empty()) {
       std::string why = "yarn fit start: " + outside.front();
       for (std::size_t i = 1; i < outside.size(); ++i) why += "; " + outside[i];
-      throw std::invalid_argument(why);
+      throw Error(ErrorCategory::input, why);
     }
   }
   YarnFitResult out;

@@ -139,7 +139,7 @@ yarn::YarnParams params_from_point(const Eigen::VectorXd& x, const yarn::Paramet
                                    bool linear_stretch);
 Eigen::VectorXd point_from_params(const yarn::YarnParams& p, bool linear_stretch);
 
-// Runs the calibration. Throws std::invalid_argument for invalid settings or targets; a
+// Runs the calibration. Throws an input Error for invalid settings or targets; a
 // calibration whose every candidate failed, or whose best parameters fail on re-evaluation,
 // returns ok = false with the reason, and then `final` holds no directions (no errors, no
 // curves: nothing that belongs to other parameters).

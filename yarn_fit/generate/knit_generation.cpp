@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
 
@@ -32,9 +33,9 @@ double stress_at_ten_percent(YarnSystem& system, const Eigen::VectorXd& g, doubl
 db::PeriodicTile tile_at_rest(const db::PeriodicTile& source, const YarnSystem& system, const Eigen::VectorXd& g) {
   const YarnTile& tile = system.tile();
   if (std::abs(tile.lattice(0, 1)) > 0.0 || std::abs(tile.lattice(1, 0)) > 0.0)
-    throw std::invalid_argument("tile_at_rest: the pyp layout holds a rectangular period only");
+    throw Error(ErrorCategory::input, "tile_at_rest: the pyp layout holds a rectangular period only");
   if (tile.vertex_count() != source.vertex_count() || tile.edge_count() != source.edge_count())
-    throw std::invalid_argument("tile_at_rest: the system's tile is not made from this pyp tile");
+    throw Error(ErrorCategory::input, "tile_at_rest: the system's tile is not made from this pyp tile");
   db::PeriodicTile out = source;
   out.period_x = tile.lattice(0, 0);
   out.period_y = tile.lattice(1, 1);
@@ -88,7 +89,7 @@ GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGeneratio
   const double radius = options.geometry.yarn_radius;
   out.params = options.params ? *options.params : default_params({options.default_ks2, radius});
   if (const db::Problems invalid = out.params.problems(); !invalid.empty())
-    throw std::invalid_argument("generate_knit_tile: " + invalid.one_line());
+    throw Error(ErrorCategory::input, "generate_knit_tile: " + invalid.one_line());
 
   YarnSystem system(make_yarn_tile(out.initial.tile), out.params);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(system.dof_count());

@@ -65,7 +65,7 @@ struct GeneratedTile {
   [[nodiscard]] double course_spacing() const { return tile.period_y / initial.chart.courses(); }
 };
 
-// Throws std::invalid_argument for bad geometry options (make_knit_tile) or parameters;
+// Throws an input Error for bad geometry options (make_knit_tile) or parameters;
 // numerical trouble is reported in `converged` and `message`.
 GeneratedTile generate_knit_tile(const db::KnitChart& chart, const TileGenerationOptions& options);
 

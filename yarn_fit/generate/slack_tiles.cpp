@@ -7,6 +7,7 @@
 
 #include "fabrics_db/tile/woven_tile.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 
 namespace yarnfit::yarn {
@@ -43,7 +44,7 @@ SlackReproducer knit(const std::string& name, const std::string& chart_name, dou
   o.default_ks2 = kDefaultKs2;
   GeneratedTile generated = generate_knit_tile(*chart, o);
   if (!generated.converged)
-    throw std::runtime_error("slack reproducer " + name + ": the knit generator did not relax it: " + generated.message);
+    throw Error(ErrorCategory::solve, "slack reproducer " + name + ": the knit generator did not relax it: " + generated.message);
   SlackReproducer r;
   r.name = name;
   r.construction = chart_name + " knitted loosely, L " + db::format_g(1e3 * kLooseStitch) + " mm, R " +
@@ -82,7 +83,7 @@ const std::vector<std::string>& slack_reproducer_names() {
 SlackReproducer make_slack_reproducer(const std::string& name) {
   for (const auto& [known, build] : builders())
     if (known == name) return build(name);
-  throw std::invalid_argument("no slack reproducer named '" + name + "'");
+  throw Error(ErrorCategory::input, "no slack reproducer named '" + name + "'");
 }
 
 }  // namespace yarnfit::yarn

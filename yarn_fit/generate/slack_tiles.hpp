@@ -32,8 +32,8 @@ struct SlackReproducer {
 // The reproducers' names, woven first.
 [[nodiscard]] const std::vector<std::string>& slack_reproducer_names();
 
-// Builds one reproducer. Throws std::invalid_argument for an unknown name and
-// std::runtime_error when the knit generator does not relax the tile.
+// Builds one reproducer. Throws an input Error for an unknown name and
+// an Error when the knit generator does not relax the tile.
 SlackReproducer make_slack_reproducer(const std::string& name);
 
 }  // namespace yarnfit::yarn

@@ -10,6 +10,7 @@
 #include "numerics/optim/cobyla.hpp"
 #include "numerics/roots/bracketed_root.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 
 namespace yarnfit::yarn {
 
@@ -165,7 +166,7 @@ Sample solve_free_compression(YarnSystem& system, CoarseDeformation chi, Eigen::
     cs.x_tolerance = co.tolerance;
     const numerics::Objective psi = [&](const Eigen::VectorXd& c) {
       const Sample s = search.at(c[0]);
-      if (!s.ok) throw std::runtime_error(s.message);
+      if (!s.ok) throw Error(ErrorCategory::solve, s.message);
       return s.energy_density;
     };
     const numerics::CobylaSummary r =

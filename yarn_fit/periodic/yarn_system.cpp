@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "numerics/util/error.hpp"
 #include "yarn_fit/energies/yarn_bending_term.hpp"
 #include "yarn_fit/energies/yarn_stretch_term.hpp"
 #include "numerics/util/non_finite.hpp"
@@ -21,7 +22,7 @@ std::vector<YarnTermKind> all_yarn_terms() { return {YarnTermKind::stretch, Yarn
 YarnSystem::YarnSystem(YarnTile tile, const YarnParams& params, std::vector<YarnTermKind> terms)
     : m_tile(std::move(tile)), m_kinds(std::move(terms)), m_map(CoarseDeformation{}) {
   if (const db::Problems invalid = params.problems(); !invalid.empty())
-    throw std::invalid_argument("yarn parameters: " + invalid.one_line());
+    throw Error(ErrorCategory::input, "yarn parameters: " + invalid.one_line());
   m_params = params;
   m_placement.update(m_tile, m_map);
   build_constraints();
@@ -85,7 +86,7 @@ std::vector<std::string> YarnSystem::effects() const {
 
 void YarnSystem::set_params(const YarnParams& params) {
   if (const db::Problems invalid = params.problems(); !invalid.empty())
-    throw std::invalid_argument("yarn parameters: " + invalid.one_line());
+    throw Error(ErrorCategory::input, "yarn parameters: " + invalid.one_line());
   m_params = params;
   for (const auto& term : m_terms) term->set_params(params);
   m_candidates.invalidate();
@@ -93,7 +94,7 @@ void YarnSystem::set_params(const YarnParams& params) {
 
 void YarnSystem::set_tile(YarnTile tile) {
   if (tile.vertex_count() != m_tile.vertex_count() || tile.edge_count() != m_tile.edge_count())
-    throw std::invalid_argument("yarn system: set_tile needs the same vertices and edges");
+    throw Error(ErrorCategory::input, "yarn system: set_tile needs the same vertices and edges");
   m_tile = std::move(tile);
   m_placement.update(m_tile, m_map);
   build_constraints();

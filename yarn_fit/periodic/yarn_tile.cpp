@@ -1,4 +1,5 @@
 #include "yarn_fit/periodic/yarn_tile.hpp"
+#include "numerics/util/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -71,7 +72,7 @@ void set_yarn_anchors(YarnTile& tile, const TileYarn& yarn) {
     const TileEdgeElement& edge = tile.edges[static_cast<std::size_t>(yarn.edges[k])];
     const Eigen::Vector3d v = tile.reference_at(edge.v1, edge.cell1) - tile.reference_at(edge.v0, Cell{0, 0});
     if (!(v.norm() > 0.0))
-      throw std::invalid_argument("yarn tile: edge " + std::to_string(yarn.edges[k]) + " has zero length");
+      throw Error(ErrorCategory::input, "yarn tile: edge " + std::to_string(yarn.edges[k]) + " has zero length");
     t[k] = v.normalized();
     d[k] = k == 0 ? anchor_along(v).director : carried_anchor({t[k - 1], d[k - 1]}, Eigen::Matrix3d::Identity(), v).director;
   }
@@ -126,9 +127,9 @@ void walk_yarns(YarnTile& out, const std::vector<int>& out_edge) {
       arc += el.rest_length;
       cell = cell + el.cell1;
       e = out_edge[static_cast<std::size_t>(el.v1)];
-      if (e < 0) throw std::invalid_argument("yarn tile: open yarn (vertex without outgoing edge)");
+      if (e < 0) throw Error(ErrorCategory::input, "yarn tile: open yarn (vertex without outgoing edge)");
     }
-    if (e != start) throw std::invalid_argument("yarn tile: edges do not form closed cycles");
+    if (e != start) throw Error(ErrorCategory::input, "yarn tile: edges do not form closed cycles");
     yarn.net_offset = cell;
     yarn.input_rest_length = arc;
     if (cell.i != 0 || cell.j != 0) {
@@ -168,7 +169,7 @@ YarnTile make_yarn_tile(const db::PeriodicTile& source) {
   const int nv = tile.vertex_count();
   const int ne = tile.edge_count();
   if (nv == 0 || ne != nv)
-    throw std::invalid_argument("yarn tile: expected as many edges as vertices, got " +
+    throw Error(ErrorCategory::input, "yarn tile: expected as many edges as vertices, got " +
                                 std::to_string(ne) + " edges for " + std::to_string(nv) +
                                 " vertices");
   YarnTile out;
@@ -187,9 +188,9 @@ YarnTile make_yarn_tile(const db::PeriodicTile& source) {
   for (int e = 0; e < ne; ++e) {
     const auto& te = tile.edges[static_cast<std::size_t>(e)];
     if (te.v0 < 0 || te.v0 >= nv || te.v1 < 0 || te.v1 >= nv)
-      throw std::invalid_argument("yarn tile: edge " + std::to_string(e) + " has a vertex out of range");
+      throw Error(ErrorCategory::input, "yarn tile: edge " + std::to_string(e) + " has a vertex out of range");
     if (out_edge[static_cast<std::size_t>(te.v0)] != -1 || in_edge[static_cast<std::size_t>(te.v1)] != -1)
-      throw std::invalid_argument("yarn tile: vertex with more than one outgoing or incoming edge");
+      throw Error(ErrorCategory::input, "yarn tile: vertex with more than one outgoing or incoming edge");
     out_edge[static_cast<std::size_t>(te.v0)] = e;
     in_edge[static_cast<std::size_t>(te.v1)] = e;
     TileEdgeElement el;
@@ -229,7 +230,7 @@ YarnTile rotated_tile(const YarnTile& tile, double angle) {
 }
 
 db::PeriodicTile repeat_tile(const db::PeriodicTile& tile, int nx, int ny) {
-  if (nx < 1 || ny < 1) throw std::invalid_argument("repeat_tile: counts must be >= 1");
+  if (nx < 1 || ny < 1) throw Error(ErrorCategory::input, "repeat_tile: counts must be >= 1");
   db::PeriodicTile t = tile;
   db::fill_tile_defaults(t);
   const int nv = t.vertex_count();

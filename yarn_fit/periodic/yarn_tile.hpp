@@ -97,7 +97,7 @@ struct YarnTile {
   bool same_yarn_gap(int a, int b, const Cell& cell_b, double& gap) const;
 };
 
-// Throws std::invalid_argument if the tile's edges do not form closed cycles.
+// Throws an input Error if the tile's edges do not form closed cycles.
 YarnTile make_yarn_tile(const db::PeriodicTile& tile);
 
 // The tile rotated in-plane by `angle` [rad] about the centroid: reference positions, lattice

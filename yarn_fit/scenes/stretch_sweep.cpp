@@ -5,14 +5,15 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/homogenise/sensitivity.hpp"
 
 namespace yarnfit::yarn {
 
 std::vector<double> even_stretches(double max_stretch, int points) {
-  if (points < 2) throw std::invalid_argument("a stretch curve needs at least 2 points");
+  if (points < 2) throw Error(ErrorCategory::input, "a stretch curve needs at least 2 points");
   if (!std::isfinite(max_stretch) || max_stretch <= -1.0)
-    throw std::invalid_argument("the largest stretch must be finite and greater than -1");
+    throw Error(ErrorCategory::input, "the largest stretch must be finite and greater than -1");
   std::vector<double> s(static_cast<std::size_t>(points));
   for (int i = 0; i < points; ++i) s[static_cast<std::size_t>(i)] = max_stretch * i / (points - 1);
   return s;

@@ -48,7 +48,7 @@ bool predict_equilibrium(YarnSystem& system, const CoarseDeformation& from, cons
                          Eigen::VectorXd& g);
 
 // `points` stretches evenly spaced over [0, max_stretch], both ends included.
-// Throws std::invalid_argument for points < 2 or a non-finite max_stretch ≤ −1.
+// Throws an input Error for points < 2 or a non-finite max_stretch ≤ −1.
 std::vector<double> even_stretches(double max_stretch, int points);
 
 // Sweeps `stretches` (in the order given) along the direction `angle` [rad from the weft].

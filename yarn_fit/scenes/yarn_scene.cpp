@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/periodic/coarse_map.hpp"
 
 namespace yarnfit::yarn {
@@ -36,7 +37,7 @@ std::optional<YarnScene> load_yarn_scene(const YarnSceneSetup& setup, db::Proble
     try {
       tile = make_yarn_tile(scene.pattern);
       if (setup.ks2 > 0.0) scales = scales_of(scene.pattern, setup.ks2);
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       problems.add(setup.pattern.string(), 0, "file", std::string("not a usable periodic tile: ") + e.what());
     }
   }

@@ -72,7 +72,7 @@ nlohmann::json units_json();
 // period ends at the copy of its first vertex, a closed loop returns to it), deformed
 // positions in metres relative to the tile centroid. `copies` = 1 writes the tile, 3 the
 // 3 × 3 block of its periodic copies around it (one `o` object per copy). Returns the number
-// of segments written per copy (the tile's edge count). Throws std::runtime_error naming the
+// of segments written per copy (the tile's edge count). Throws an Error naming the
 // file when it cannot be written.
 int write_tile_obj(const YarnSystem& system, const Eigen::VectorXd& g, const CoarseDeformation& chi,
                    const std::filesystem::path& file, int copies, const std::string& comment);

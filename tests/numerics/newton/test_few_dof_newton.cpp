@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "numerics/newton/few_dof_newton.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::numerics {
 namespace {
@@ -139,7 +140,7 @@ TEST(FewDofNewton, OptionsNameEveryProblem) {
   EXPECT_EQ(options.problems().size(), 2u) << options.problems().to_string();
   TestFunction<2> f(2);
   Eigen::Vector2d x = Eigen::Vector2d::Zero();
-  EXPECT_THROW((void)minimise_few_dofs(f, x, options), std::invalid_argument);
+  EXPECT_ERROR((void)minimise_few_dofs(f, x, options), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

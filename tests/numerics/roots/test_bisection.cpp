@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "numerics/roots/bisection.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::numerics {
 namespace {
@@ -69,11 +70,11 @@ TEST(Bisection, StopsAtAFailedEvaluationWithTheBracketBeforeIt) {
 
 TEST(Bisection, RejectsInvalidBrackets) {
   BisectionOptions o;
-  EXPECT_THROW(bisect(below_sqrt2, 2.0, 1.0, o), std::invalid_argument);
+  EXPECT_ERROR(bisect(below_sqrt2, 2.0, 1.0, o), yarnfit::ErrorCategory::input);
   o.midpoint = Midpoint::geometric;
-  EXPECT_THROW(bisect(below_sqrt2, 0.0, 1.0, o), std::invalid_argument);
+  EXPECT_ERROR(bisect(below_sqrt2, 0.0, 1.0, o), yarnfit::ErrorCategory::input);
   o.halvings = -1;
-  EXPECT_THROW(bisect(below_sqrt2, 1.0, 2.0, o), std::invalid_argument);
+  EXPECT_ERROR(bisect(below_sqrt2, 1.0, 2.0, o), yarnfit::ErrorCategory::input);
 }
 
 TEST(FactorBracket, StepsUpOrDownUntilBothSidesAreSeen) {
@@ -116,7 +117,7 @@ TEST(FactorBracket, StopsAtTheBoundsAndAtAFailure) {
   EXPECT_EQ(*failed.below, 1.0);
   EXPECT_EQ(*failed.failed_at, 2.0);
   o.lower = 0.0;
-  EXPECT_THROW(bracket_by_factor([](double) { return std::optional<bool>(true); }, 1.0, o), std::invalid_argument);
+  EXPECT_ERROR(bracket_by_factor([](double) { return std::optional<bool>(true); }, 1.0, o), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "numerics/roots/bracketed_root.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::numerics {
 namespace {
@@ -96,11 +97,11 @@ TEST(BracketedRoot, BisectsTowardsABarrier) {
 TEST(BracketedRoot, RefusesInvalidOptions) {
   RootFindOptions o;
   o.initial_step = 0.0;
-  EXPECT_THROW(find_root([](double x) { return x; }, 0.0, o), std::invalid_argument);
+  EXPECT_ERROR(find_root([](double x) { return x; }, 0.0, o), yarnfit::ErrorCategory::input);
   o = {};
   o.lower = 1.0;
   o.upper = 0.0;
-  EXPECT_THROW(find_root([](double x) { return x; }, 0.0, o), std::invalid_argument);
+  EXPECT_ERROR(find_root([](double x) { return x; }, 0.0, o), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

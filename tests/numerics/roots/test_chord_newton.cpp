@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "numerics/roots/chord_newton.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::numerics {
 namespace {
@@ -102,10 +103,8 @@ TEST(ChordNewton, OptionsNameEveryProblem) {
   options.jacobian_step = -1.0;
   EXPECT_EQ(options.problems().size(), 3u) << options.problems().to_string();
   CubicProblem problem;
-  EXPECT_THROW((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), options),
-               std::invalid_argument);
-  EXPECT_THROW((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(3), ChordNewtonOptions{}),
-               std::invalid_argument);
+  EXPECT_ERROR((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), options), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(3), ChordNewtonOptions{}), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

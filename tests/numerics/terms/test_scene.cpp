@@ -10,6 +10,7 @@
 
 #include "numerics/terms/scene.hpp"
 #include "tests/support/test_energy_terms.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::numerics {
 namespace {
@@ -57,8 +58,8 @@ TEST(Scene, NanIsNotHiddenAndTheOffendingTermIsNamed) {
   const NanGradientTerm bad;
   EXPECT_NE(describe_non_finite_gradients(TermList{&bad, &wall}, Eigen::Vector2d(0.9, 0.0)).find("'nan_gradient'"),
             std::string::npos);
-  EXPECT_THROW(check_terms(TermList{}, "test"), std::invalid_argument);
-  EXPECT_THROW(check_terms(TermList{&wall, nullptr}, "test"), std::invalid_argument);
+  EXPECT_ERROR(check_terms(TermList{}, "test"), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR(check_terms(TermList{&wall, nullptr}, "test"), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "fabrics_db/records/sha256.hpp"
 #include "service/accounts/accounts.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::service {
 namespace {
@@ -76,13 +77,13 @@ TEST(Accounts, TheDatabaseHoldsOnlyTheSecretsHash) {
 TEST(Accounts, NamesAreCheckedAndTaken) {
   ScratchDir dir("accounts_names");
   Accounts accounts(dir / "accounts.db");
-  for (const char* bad : {"", "Ana", "-x", "a b", "../x", "a/b", "é"}) EXPECT_THROW(accounts.add_user(bad, false), AccountError) << bad;
-  EXPECT_THROW(accounts.add_user(std::string(65, 'a'), false), AccountError);
+  for (const char* bad : {"", "Ana", "-x", "a b", "../x", "a/b", "é"}) EXPECT_ERROR(accounts.add_user(bad, false), yarnfit::ErrorCategory::input) << bad;
+  EXPECT_ERROR(accounts.add_user(std::string(65, 'a'), false), yarnfit::ErrorCategory::input);
   accounts.add_user("ana", false);
-  EXPECT_THROW(accounts.add_user("ana", true), AccountError);
+  EXPECT_ERROR(accounts.add_user("ana", true), yarnfit::ErrorCategory::conflict);
   EXPECT_FALSE(accounts.find("ana")->admin);  // the refused second add changed nothing
-  EXPECT_THROW(accounts.revoke("bob"), AccountError);
-  EXPECT_THROW(accounts.new_token("bob"), AccountError);
+  EXPECT_ERROR(accounts.revoke("bob"), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR(accounts.new_token("bob"), yarnfit::ErrorCategory::input);
   accounts.add_user("bob.lab_2", true);
   const auto all = accounts.list();
   ASSERT_EQ(all.size(), 2u);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "shell_fit/fit/shell_fit.hpp"
+#include "numerics/util/error.hpp"
 #include "tests/example_fabric.hpp"
 #include "tests/test_support.hpp"
 
@@ -31,7 +32,7 @@ TEST(ShellFitOptions, EveryInvalidFieldIsNamedBeforeAnyWork) {
   try {
     (void)fit_shell(weft_only_example(), o);
     FAIL() << "invalid options ran";
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     for (const auto& f : fields) EXPECT_NE(std::string(e.what()).find(f + ":"), std::string::npos) << e.what();
   }
 }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "shell_fit/mesh/rect_mesh.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::shell {
 namespace {
@@ -107,15 +108,15 @@ TEST(RectMesh, NodeLinesSitExactlyOnMidLengthAndCentreLine) {
 }
 
 TEST(RectMesh, RejectsOddOrTooFewCellsAndBadSizes) {
-  EXPECT_THROW((void)make_rect_mesh(0.1, 0.06, 19, 12, 0.0), std::invalid_argument);
-  EXPECT_THROW((void)make_rect_mesh(0.1, 0.06, 20, 11, 0.0), std::invalid_argument);
-  EXPECT_THROW((void)make_rect_mesh(0.1, 0.06, 0, 12, 0.0), std::invalid_argument);
-  EXPECT_THROW((void)make_rect_mesh(-0.1, 0.06, 20, 12, 0.0), std::invalid_argument);
-  EXPECT_THROW((void)make_rect_mesh(0.1, std::nan(""), 20, 12, 0.0), std::invalid_argument);
+  EXPECT_ERROR((void)make_rect_mesh(0.1, 0.06, 19, 12, 0.0), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)make_rect_mesh(0.1, 0.06, 20, 11, 0.0), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)make_rect_mesh(0.1, 0.06, 0, 12, 0.0), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)make_rect_mesh(-0.1, 0.06, 20, 12, 0.0), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)make_rect_mesh(0.1, std::nan(""), 20, 12, 0.0), yarnfit::ErrorCategory::input);
   try {
     (void)make_rect_mesh(0.1, 0.06, 7, 12, 0.0);
     FAIL() << "odd nx accepted";
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     EXPECT_NE(std::string(e.what()).find("nx"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("even"), std::string::npos) << e.what();
   }
@@ -186,10 +187,9 @@ TEST(RectMesh, MaterialPointsReproduceAnAffineMapExactly) {
     EXPECT_LT((y3 - (f3 * p + shift3)).norm(), 1e-15) << p.transpose();
     EXPECT_LT((deformed_position(mp, mesh, r2, 2) - p).norm(), 1e-17) << p.transpose();
   }
-  EXPECT_THROW((void)locate(mesh, Eigen::Vector2d(0.11, 0.0)), std::invalid_argument);
-  EXPECT_THROW((void)locate(mesh, Eigen::Vector2d(0.05, -0.0301)), std::invalid_argument);
-  EXPECT_THROW((void)deformed_position(locate(mesh, points[0]), mesh, x2, 3),
-               std::invalid_argument);
+  EXPECT_ERROR((void)locate(mesh, Eigen::Vector2d(0.11, 0.0)), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)locate(mesh, Eigen::Vector2d(0.05, -0.0301)), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)deformed_position(locate(mesh, points[0]), mesh, x2, 3), yarnfit::ErrorCategory::input);
 }
 
 TEST(RectMesh, DefaultResolutionGivesEvenNearSquareCells) {
@@ -208,7 +208,7 @@ TEST(RectMesh, DefaultResolutionGivesEvenNearSquareCells) {
     }
     EXPECT_LT(std::abs(l / nx - h), 0.5 * h) << "cell length near the target";
   }
-  EXPECT_THROW((void)default_resolution(0.1, 0.06, 0.0), std::invalid_argument);
+  EXPECT_ERROR((void)default_resolution(0.1, 0.06, 0.0), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

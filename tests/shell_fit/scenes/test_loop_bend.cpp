@@ -7,6 +7,7 @@
 
 #include "shell_fit/scenes/loop_bend.hpp"
 #include "tests/shell_fit/known_materials.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::shell {
 namespace {
@@ -57,7 +58,7 @@ TEST(LoopBend, ElasticaFormulaTendsToEuler) {
   const double L = 0.1;
   EXPECT_NEAR(elastica_clamped_push(0.99999 * L, L), 4.0 * M_PI * M_PI / (L * L), 1e-3 * 4.0 * M_PI * M_PI / (L * L));
   EXPECT_GT(elastica_clamped_push(0.5 * L, L), elastica_clamped_push(0.9 * L, L));
-  EXPECT_THROW((void)elastica_clamped_push(L, L), std::invalid_argument);
+  EXPECT_ERROR((void)elastica_clamped_push(L, L), yarnfit::ErrorCategory::input);
 }
 
 // A limp, heavy strip hangs as a catenary: horizontal tension H = ρ g W a with
@@ -97,7 +98,7 @@ TEST(LoopBend, GravityPartsUpFromDown) {
   ASSERT_TRUE(up.ok && down.ok) << up.message << down.message;
   std::cout << "up " << up.samples[0].force << " N, down " << down.samples[0].force << " N\n";
   EXPECT_GT(down.samples[0].force, up.samples[0].force);
-  EXPECT_THROW((void)LoopBendScene(setup(L, LoopDirection::up, 9.81)).initial_state(1.1 * L), std::invalid_argument);
+  EXPECT_ERROR((void)LoopBendScene(setup(L, LoopDirection::up, 9.81)).initial_state(1.1 * L), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "shell_fit/fit/bending_fit.hpp"
 #include "shell_fit/scenes/pear_loop.hpp"
 #include "tests/shell_fit/known_materials.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::shell {
 namespace {
@@ -304,12 +305,12 @@ TEST(PearLoop, NearZeroBendingStiffnessStaysFinite) {
 TEST(PearLoop, BadInputIsRejected) {
   PearLoopSetup s = narrow_setup();
   s.cells_along = 3;
-  EXPECT_THROW(PearLoopScene{s}, std::invalid_argument);
+  EXPECT_ERROR(PearLoopScene{s}, yarnfit::ErrorCategory::input);
   s = narrow_setup();
   s.areal_density = -1.0;
-  EXPECT_THROW(PearLoopScene{s}, std::invalid_argument);
+  EXPECT_ERROR(PearLoopScene{s}, yarnfit::ErrorCategory::input);
   const PearLoopScene scene(narrow_setup());
-  EXPECT_THROW((void)scene.initial_state(0.09), std::invalid_argument);  // no loop closes that wide
+  EXPECT_ERROR((void)scene.initial_state(0.09), yarnfit::ErrorCategory::input);  // no loop closes that wide
   const auto run = scene.run(params_for(k_knit, 1e-6), {0.09});
   EXPECT_FALSE(run.ok);
   EXPECT_FALSE(run.samples[0].converged);
@@ -453,7 +454,7 @@ TEST(BendingFit, BendingTestsNeedTheArealDensity) {
   t.curve.clamp_distance = {0.005, 0.02};
   t.curve.aspect_ratio = {2.0, 1.5};
   f.bending_tests[db::Direction::weft] = t;
-  EXPECT_THROW((void)fit_bending(f, k_knit, BendingFitOptions{}), std::invalid_argument);
+  EXPECT_ERROR((void)fit_bending(f, k_knit, BendingFitOptions{}), yarnfit::ErrorCategory::input);
 }
 
 TEST(BendingFit, TargetsAreClippedToTheMeasuredRange) {

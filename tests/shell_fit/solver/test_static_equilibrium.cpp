@@ -20,6 +20,7 @@
 #include "shell_fit/mesh/rect_mesh.hpp"
 #include "shell_fit/solver/static_equilibrium.hpp"
 #include "tests/support/test_energy_terms.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::shell {
 namespace {
@@ -50,7 +51,7 @@ TEST(StaticEquilibrium, FixedDofsKeepTheirValuesExactly) {
   const Eigen::MatrixXd aff = a(f, f);
   const Eigen::VectorXd expected = c(f) - aff.ldlt().solve(a(f, cdofs) * (x(cdofs) - c(cdofs)));
   EXPECT_LT((x(f) - expected).lpNorm<Eigen::Infinity>(), 1e-12);
-  EXPECT_THROW((void)solve_static(terms_of({&term}), x, {n}, NewtonOptions::for_shell()), std::invalid_argument);
+  EXPECT_ERROR((void)solve_static(terms_of({&term}), x, {n}, NewtonOptions::for_shell()), yarnfit::ErrorCategory::input);
 }
 
 TEST(StaticEquilibrium, SpringChainReachesKnownEquilibriumAndClampReactionsHaveTheDocumentedSign) {
@@ -129,9 +130,9 @@ TEST(StaticEquilibrium, RejectsInvalidOptionsAndArguments) {
   EXPECT_NE(options.problems().to_string().find("shift_growth"), std::string::npos) << options.problems().to_string();
   const QuadraticTerm term(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2));
   Eigen::VectorXd x = Eigen::VectorXd::Ones(2);
-  EXPECT_THROW((void)solve_static(terms_of({&term}), x, {}, options), std::invalid_argument);
-  EXPECT_THROW((void)solve_static({}, x, {}, NewtonOptions::for_shell()), std::invalid_argument);
-  EXPECT_THROW((void)solve_static(terms_of({nullptr}), x, {}, NewtonOptions::for_shell()), std::invalid_argument);
+  EXPECT_ERROR((void)solve_static(terms_of({&term}), x, {}, options), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)solve_static({}, x, {}, NewtonOptions::for_shell()), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)solve_static(terms_of({nullptr}), x, {}, NewtonOptions::for_shell()), yarnfit::ErrorCategory::input);
   ContinuationOptions copt;
   EXPECT_TRUE(copt.problems().empty()) << copt.problems().to_string();
   copt.min_step = 0.0;

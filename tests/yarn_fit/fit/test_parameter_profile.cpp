@@ -11,6 +11,7 @@
 #include "yarn_fit/fit/yarn_fit.hpp"
 #include "tests/yarn_fit/fit/stockinette_case.hpp"
 #include "tests/test_support.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::yarn {
 namespace {
@@ -112,11 +113,10 @@ TEST(ParameterProfile, ReportsAnIncompleteFitInsteadOfProfilingIt) {
   EXPECT_FALSE(p.computed);
   EXPECT_EQ(p.evaluations, 0);
   EXPECT_FALSE(p.message.empty());
-  EXPECT_THROW((void)profile_parameters(objective, yarn_parameter_space(st.scales, false),
+  EXPECT_ERROR((void)profile_parameters(objective, yarn_parameter_space(st.scales, false),
                                         point_from_params(bad, false), failed,
                                         [&](const Eigen::VectorXd& x) { return params_from_point(x, st.scales, false); },
-                                        0.0, 1),
-               std::invalid_argument);
+                                        0.0, 1), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "tests/yarn_fit/fit/stockinette_case.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::yarn {
 namespace {
@@ -87,11 +88,11 @@ TEST(YarnFitSettings, EveryInvalidFieldIsNamed) {
   s.local_compression_nodes = 0;
   s.alternation.rest_difference_step = 0.0;  // never measured: valid
   EXPECT_TRUE(s.problems().empty()) << s.problems().to_string();
-  EXPECT_THROW((void)fit_yarn_params(yarn::YarnTile{}, {}, {1.0, 1.0}, [] {
+  EXPECT_ERROR((void)fit_yarn_params(yarn::YarnTile{}, {}, {1.0, 1.0}, [] {
     YarnFitSettings bad;
     bad.local_samples = 1;
     return bad;
-  }()), std::invalid_argument);
+  }()), yarnfit::ErrorCategory::input);
 }
 
 // Two ways to run the same fit: every swarm candidate simulated in full, or stopped once it
@@ -190,7 +191,7 @@ TEST(YarnCalibration, StartOutsideTheBoundsIsRefusedNamingTheParameters) {
   try {
     (void)fit_yarn_params(st.yarn_tile(), {}, st.scales, s);
     FAIL() << "a start outside the bounds was accepted";
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     const std::string what = e.what();
     EXPECT_EQ(what.rfind("yarn fit start: kb: ", 0), 0u) << what;
     EXPECT_NE(what.find("; R1: "), std::string::npos) << what;

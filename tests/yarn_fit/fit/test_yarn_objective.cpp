@@ -13,6 +13,7 @@
 #include "tests/yarn_fit/fit/stockinette_case.hpp"
 #include "tests/test_support.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::yarn {
 namespace {
@@ -198,12 +199,12 @@ TEST(YarnObjective, RejectsTargetsWithoutStretch) {
   YARNFIT_REQUIRE_SHARED(testcase::stockinette_pattern());
   const testcase::Stockinette st = testcase::load_stockinette();
   std::vector<db::DirectionTargets> none(1);
-  EXPECT_THROW(YarnObjective(st.yarn_tile(), none), std::invalid_argument);
+  EXPECT_ERROR(YarnObjective(st.yarn_tile(), none), yarnfit::ErrorCategory::input);
   ObjectiveOptions o;
   o.samples = 1;
   std::vector<db::DirectionTargets> t(1);
   t[0].stretch = {{0.0, 0.0, 0.0, true}, {0.1, 0.02, 5.0, true}};
-  EXPECT_THROW(YarnObjective(st.yarn_tile(), t, o), std::invalid_argument);
+  EXPECT_ERROR(YarnObjective(st.yarn_tile(), t, o), yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

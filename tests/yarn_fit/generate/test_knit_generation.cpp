@@ -14,6 +14,7 @@
 
 #include "fabrics_db/tile/knit_chart.hpp"
 #include "fabrics_db/tile/periodic_tile.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 #include "yarn_fit/homogenise/readouts.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
@@ -93,7 +94,7 @@ TEST(KnitGeneration, AGaugeBuildsTheTileAtItsPeriodAndHoldsIt) {
   try {
     (void)generate_knit_tile(*db::parse_knit_chart("stockinette"), o);
     ADD_FAILURE() << "expected a refusal";
-  } catch (const std::invalid_argument& e) {
+  } catch (const yarnfit::Error& e) {
     EXPECT_NE(std::string(e.what()).find("check the gauge"), std::string::npos) << e.what();
   }
 }

@@ -20,6 +20,7 @@
 #include "yarn_fit/homogenise/rest_shape.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
+#include "tests/expect_error.hpp"
 
 namespace yarnfit::yarn {
 namespace {
@@ -36,7 +37,7 @@ TEST(SlackReproducers, EveryOneIsAValidTile) {
     EXPECT_NO_THROW(YarnSystem(make_yarn_tile(r.tile), r.params));
   }
   EXPECT_EQ(constructions.size(), slack_reproducer_names().size()) << "each says what it is";
-  EXPECT_THROW(make_slack_reproducer("no_such_tile"), std::invalid_argument);
+  EXPECT_ERROR(make_slack_reproducer("no_such_tile"), yarnfit::ErrorCategory::input);
 }
 
 // One tile's figures against the goals, with every point that missed them named.

@@ -11,6 +11,7 @@
 
 #include "fabrics_db/text_util.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "results/metrics/error_metrics.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 
@@ -89,19 +90,19 @@ db::Problems ObjectiveOptions::problems() const {
 YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTargets> targets, ObjectiveOptions options)
     : m_tile(std::move(tile)), m_options(std::move(options)) {
   if (const db::Problems problems = m_options.problems(); !problems.empty())
-    throw std::invalid_argument("objective: " + problems.one_line());
+    throw Error(ErrorCategory::input, "objective: " + problems.one_line());
   for (auto& t : targets) {
     if (t.stretch.size() < 2) continue;
     DirectionScale sc = comfort_scale(t, m_options);
     sc.compression_weight = m_options.compression_weight;
     if (!(sc.stress_norm > 0.0)) {
-      throw std::invalid_argument("objective: " + std::string(db::to_string(t.direction)) +
+      throw Error(ErrorCategory::input, "objective: " + std::string(db::to_string(t.direction)) +
                                   " targets have no positive stress in the comfort range");
     }
     m_scales.push_back(sc);
     m_targets.push_back(std::move(t));
   }
-  if (m_targets.empty()) throw std::invalid_argument("objective: no direction has stretch targets");
+  if (m_targets.empty()) throw Error(ErrorCategory::input, "objective: no direction has stretch targets");
   double smallest_norm = std::numeric_limits<double>::infinity();
   for (const auto& sc : m_scales) smallest_norm = std::min(smallest_norm, sc.stress_norm);
   // A solve that reaches its iteration limit with a residual force below 1e-3 of the
@@ -120,13 +121,13 @@ YarnObjective::YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTarge
 }
 
 void YarnObjective::set_samples(int samples) {
-  if (samples < 2) throw std::invalid_argument("objective: samples must be at least 2");
+  if (samples < 2) throw Error(ErrorCategory::input, "objective: samples must be at least 2");
   m_options.samples = samples;
 }
 
 double YarnObjective::operator()(const yarn::YarnParams& params) const {
   const ObjectiveResult r = evaluate(params);
-  if (!r.ok) throw std::runtime_error(r.message);
+  if (!r.ok) throw Error(ErrorCategory::solve, r.message);
   return r.value;
 }
 

@@ -163,7 +163,7 @@ struct AtRestOptions {
 
 class YarnObjective {
  public:
-  // Throws std::invalid_argument for invalid options, no stretch targets, or a direction
+  // Throws an input Error for invalid options, no stretch targets, or a direction
   // whose comfort-range stress is not positive.
   YarnObjective(yarn::YarnTile tile, std::vector<db::DirectionTargets> targets, ObjectiveOptions options = {});
 
@@ -184,7 +184,7 @@ class YarnObjective {
   // state. A rest state that is not ok gives a failed result.
   [[nodiscard]] ObjectiveResult evaluate_at_rest(const RestState& rest, const yarn::YarnParams& params,
                                                  const AtRestOptions& options = {}) const;
-  // g for the optimisers; throws std::runtime_error with the reason when the evaluation
+  // g for the optimisers; throws an Error with the reason when the evaluation
   // fails (swarm::evaluate_guarded turns that into a penalised failure).
   [[nodiscard]] double operator()(const yarn::YarnParams& params) const;
 

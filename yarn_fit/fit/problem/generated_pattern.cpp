@@ -6,6 +6,7 @@
 
 #include "fabrics_db/records/fabric_reader.hpp"
 #include "fabrics_db/text_util.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 
 namespace yarnfit::yarn {
@@ -54,7 +55,7 @@ bool make_generated_pattern(db::Fabric& fabric, const fs::path& cache, db::Probl
   yarn::GeneratedTile generated;
   try {
     generated = yarn::generate_knit_tile(knit.chart, options);
-  } catch (const std::invalid_argument& e) {
+  } catch (const Error& e) {
     problems.add(yaml, 0, "pattern.knit", e.what());
     return false;
   }

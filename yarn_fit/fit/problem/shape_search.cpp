@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/generate/knit_generation.hpp"
 #include "numerics/util/non_finite.hpp"
 
@@ -31,7 +32,7 @@ std::optional<db::PeriodicTile> shaped_tile(const db::KnitSpec& knit, double asp
       return std::nullopt;
     }
     return std::move(t.tile);
-  } catch (const std::invalid_argument& e) {
+  } catch (const Error& e) {
     why = e.what();
     return std::nullopt;
   }

@@ -84,7 +84,7 @@ bool shape_is_fitted(const db::Fabric& fabric, const YarnFitSettings& yarn, cons
 
 // The yarn fit with the tile's shape fitted (the problem's tile is replaced by each trial's, and
 // by the winner's at the end); `generated` is the knit's tile as generated. Throws
-// std::invalid_argument as fit_yarn does; a trial whose tile cannot be made is a failed trial.
+// an input Error as fit_yarn does; a trial whose tile cannot be made is a failed trial.
 YarnFitResult fit_yarn_with_shape(YarnFitProblem& problem, const db::KnitSpec& knit, const db::PeriodicTile& generated,
                                   const YarnFitSettings& settings, const ShapeSearchSettings& shape, ShapeFit& fitted);
 

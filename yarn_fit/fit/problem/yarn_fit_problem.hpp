@@ -62,7 +62,7 @@ YarnFitSettings settings_for(const YarnFitProblem& problem, YarnFitSettings sett
 
 // Runs the calibration on the problem with settings_for(problem, settings) (calibration's
 // fit_yarn_params; settings.threads > 0 also sets OpenMP's default team size). Throws
-// std::invalid_argument for invalid settings or targets.
+// an input Error for invalid settings or targets.
 YarnFitResult fit_yarn(const YarnFitProblem& problem, const YarnFitSettings& settings);
 
 // What yarn_fit.json holds: to_file(result, settings_for(problem, settings)) with the fabric's

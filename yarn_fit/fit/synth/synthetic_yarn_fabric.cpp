@@ -9,6 +9,7 @@
 
 #include "fabrics_db/text_util.hpp"
 #include "numerics/util/clock.hpp"
+#include "numerics/util/error.hpp"
 #include "yarn_fit/periodic/yarn_system.hpp"
 #include "yarn_fit/periodic/yarn_tile.hpp"
 #include "yarn_fit/scenes/stretch_sweep.hpp"
@@ -21,20 +22,20 @@ using db::format_g;
 SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const yarn::YarnParams& params,
                                           const SyntheticYarnOptions& options) {
   const auto start = numerics::Clock::now();
-  if (options.directions.empty()) throw std::invalid_argument("synth yarn: no direction given");
+  if (options.directions.empty()) throw Error(ErrorCategory::input, "synth yarn: no direction given");
   if (!(options.max_stretch > 0.0) || !std::isfinite(options.max_stretch)) {
-    throw std::invalid_argument("synth yarn: max stretch must be positive and finite");
+    throw Error(ErrorCategory::input, "synth yarn: max stretch must be positive and finite");
   }
-  if (options.points < 2) throw std::invalid_argument("synth yarn: at least 2 points per direction");
+  if (options.points < 2) throw Error(ErrorCategory::input, "synth yarn: at least 2 points per direction");
   if (const db::Problems invalid = params.problems(); !invalid.empty())
-    throw std::invalid_argument("synth yarn: parameters: " + invalid.one_line());
+    throw Error(ErrorCategory::input, "synth yarn: parameters: " + invalid.one_line());
 
   SyntheticYarnResult out;
   yarn::YarnSystem system(yarn::make_yarn_tile(tile), params);
   Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(system.dof_count());
   out.rest = yarn::relax_rest_shape(system, g_rest, options.rest);
   if (!out.rest.converged) {
-    throw std::runtime_error("synth yarn: rest-shape heuristic did not converge: " + out.rest.last_solve.message);
+    throw Error(ErrorCategory::solve, "synth yarn: rest-shape heuristic did not converge: " + out.rest.last_solve.message);
   }
   const std::vector<double> stretches = yarn::even_stretches(options.max_stretch, options.points);
   // Targets are ground truth: every solve to the force tolerance. With the stress read-out test
@@ -48,7 +49,7 @@ SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const ya
     t.direction = dir;
     for (const auto& p : sweep.points) {
       if (!p.ok) {
-        throw std::runtime_error("synth yarn: " + std::string(db::to_string(dir)) + " stretch " +
+        throw Error(ErrorCategory::solve, "synth yarn: " + std::string(db::to_string(dir)) + " stretch " +
                                  format_g(p.chi.stretch) + " failed: " + p.message);
       }
       t.stretch.push_back({p.chi.stretch, p.chi.compression, p.stress_s, true});
@@ -105,7 +106,7 @@ SyntheticYarnResult write_synthetic_yarn_fabric(const db::PeriodicTile& tile, co
                                                 bool overwrite) {
   const fs::path folder = out / "fabric";
   if (!overwrite && fs::exists(folder / "fabric.yaml")) {
-    throw std::runtime_error((folder / "fabric.yaml").string() + " exists (use --force to replace it)");
+    throw Error(ErrorCategory::conflict, (folder / "fabric.yaml").string() + " exists (use --force to replace it)");
   }
   SyntheticYarnResult r = simulate_yarn_targets(tile, params, options);
   fs::create_directories(folder);

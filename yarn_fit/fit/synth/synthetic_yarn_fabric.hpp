@@ -40,8 +40,8 @@ struct SyntheticYarnResult {
   double seconds = 0.0;
 };
 
-// Simulates the targets. Throws std::invalid_argument for invalid options or parameters and
-// std::runtime_error naming the direction and stretch when a simulation fails.
+// Simulates the targets. Throws an input Error for invalid options or parameters and
+// an Error naming the direction and stretch when a simulation fails.
 SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const yarn::YarnParams& params,
                                           const SyntheticYarnOptions& options);
 
