@@ -121,6 +121,7 @@ MadeTile make_knit_tile(const TileRequest& r, db::Problems& problems) {
   try {
     t = yarn::generate_knit_tile(*chart, o);
   } catch (const Error& e) {  // loops that cannot be built at this length or gauge
+    if (e.category() != ErrorCategory::input) throw;  // only a refused chart or geometry is the user's
     problems.add_field("tile", e.what());
     return {};
   }

@@ -56,6 +56,7 @@ bool make_generated_pattern(db::Fabric& fabric, const fs::path& cache, db::Probl
   try {
     generated = yarn::generate_knit_tile(knit.chart, options);
   } catch (const Error& e) {
+    if (e.category() != ErrorCategory::input) throw;  // only a refused chart or geometry is the user's
     problems.add(yaml, 0, "pattern.knit", e.what());
     return false;
   }

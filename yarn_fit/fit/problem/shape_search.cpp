@@ -33,6 +33,7 @@ std::optional<db::PeriodicTile> shaped_tile(const db::KnitSpec& knit, double asp
     }
     return std::move(t.tile);
   } catch (const Error& e) {
+    if (e.category() != ErrorCategory::input) throw;  // a refused geometry fails the trial, nothing else
     why = e.what();
     return std::nullopt;
   }
