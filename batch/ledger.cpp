@@ -122,8 +122,8 @@ Ledger::Ledger(const std::filesystem::path& file, bool read_only) : m_file(file)
   Statement version(m_db, m_file, "SELECT value FROM meta WHERE key = 'schema_version'");
   if (version.step()) {
     if (version.text(0) != std::to_string(k_ledger_schema_version))
-      throw Error(ErrorCategory::conflict, file.string() + ": ledger schema version " + version.text(0) + ", this yarnfit writes " +
-                        std::to_string(k_ledger_schema_version));
+      throw Error(ErrorCategory::conflict, file.string() + ": ledger schema version " + version.text(0) +
+                                               ", this yarnfit writes " + std::to_string(k_ledger_schema_version));
   } else {
     Statement put(m_db, m_file, "INSERT INTO meta(key, value) VALUES ('schema_version', ?1), ('created_by', ?2)");
     put.bind(1, std::to_string(k_ledger_schema_version)).bind(2, std::string("yarnfit batch")).run();

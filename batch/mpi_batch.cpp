@@ -163,7 +163,8 @@ bool mpi_available() { return true; }
 MpiScope::MpiScope() {
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-  if (provided < MPI_THREAD_SERIALIZED) throw Error(ErrorCategory::system, "this MPI cannot be called from a thread other than main");
+  if (provided < MPI_THREAD_SERIALIZED)
+    throw Error(ErrorCategory::system, "this MPI cannot be called from a thread other than main");
   MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &m_size);
 }

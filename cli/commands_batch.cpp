@@ -60,7 +60,8 @@ int run_batch_command(const BatchArgs& a) {
   if (!s.coordinator) return k_exit_ok;  // an MPI worker: rank 0 reports
   if (show) std::cerr << "\n";
   if (!a.quiet) {
-    std::cout << "batch " << o.database.string() << " -> " << o.out.string() << ": " << s.done << " of " << s.selected << " done";
+    std::cout << "batch " << o.database.string() << " -> " << o.out.string() << ": " << s.done << " of " << s.selected
+              << " done";
     if (s.skipped_done > 0) std::cout << " (" << s.skipped_done << " already done earlier)";
     std::cout << ", " << s.failed << " failed; " << s.ran << " fitted in this run";
     if (s.taken_over > 0) std::cout << " (" << s.taken_over << " taken over from a process that died)";

@@ -210,7 +210,8 @@ void add_db_commands(CLI::App& app, int& exit_code) {
   FabArgs& fa = args->fab;
   fab->add_option("FILE", fa.import.input, "The FAB measurement (.json, .u3m or .u3ma)")->required();
   fab->add_option("-o,--out", fa.import.output, "The record's folder to create (must not exist)")->required();
-  fab->add_option("--denier", fa.import.denier, "The yarn's linear density, grams per 9,000 m (the FAB does not measure it)")
+  fab->add_option("--denier", fa.import.denier,
+                  "The yarn's linear density, grams per 9,000 m (the FAB does not measure it)")
       ->required()
       ->check(CLI::PositiveNumber);
   fab->add_option("--id", fa.import.id, "The record's id (default: the folder's name)");

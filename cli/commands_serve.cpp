@@ -87,7 +87,8 @@ int run_serve(const ServeArgs& a) {
     std::optional<batch::MpiScope> mpi;
     if (a.mpi) {
       mpi.emplace();
-      if (mpi->size() < 2) throw Error(ErrorCategory::input, "--mpi needs at least 2 ranks (rank 0 serves, the others fit): mpirun -np K");
+      if (mpi->size() < 2)
+        throw Error(ErrorCategory::input, "--mpi needs at least 2 ranks (rank 0 serves, the others fit): mpirun -np K");
       if (mpi->rank() != 0) {
         service::run_fit_worker(a.data_dir, o.jobs);
         return k_exit_ok;

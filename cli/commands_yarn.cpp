@@ -53,7 +53,8 @@ int run_yarn_curve(const YarnCurveArgs& a) {
   ProgressDisplay progress = ProgressDisplay::for_stderr(a.quiet);
   pipeline::YarnCurveOutcome outcome;
   const bool written = write_files(a.request.out, [&] {
-    outcome = pipeline::sweep_yarn_stretch(a.request, problems, progress.callback("yarn curve " + a.request.scene.setup.direction));
+    outcome = pipeline::sweep_yarn_stretch(a.request, problems,
+                                           progress.callback("yarn curve " + a.request.scene.setup.direction));
   });
   progress.finish();
   if (!problems.empty()) return invalid_input(problems);

@@ -3,7 +3,8 @@
 namespace yarnfit::cli {
 
 void add_yarn_scene_options(CLI::App& app, pipeline::YarnSceneRequest& a) {
-  app.add_option("--pattern", a.setup.pattern, "Periodic yarn tile (HYLC pyp, metres); its x axis is the weft")->required();
+  app.add_option("--pattern", a.setup.pattern, "Periodic yarn tile (HYLC pyp, metres); its x axis is the weft")
+      ->required();
   app.add_option("--params", a.setup.params,
                  "Yarn parameters, YAML or JSON, SI units, keys of yarn_fit.json's params: ks1, eps_s, kb, R1, "
                  "kc1, ks2, kc2, R2 (a yarn_fit.json itself is accepted)")

@@ -49,8 +49,9 @@ FittedFabric read_fitted_fabric(const fs::path& fit_dir, const fs::path& record)
   const fs::path yarn_file = fit_dir / "yarn_fit.json";
   if (!fs::exists(shell_file)) {
     if (fs::exists(yarn_file))
-      throw Error(ErrorCategory::input, fit_dir.string() + ": only the yarn stage ran here (no shell_fit.json): the formats are "
-                                           "sampled from the fitted shell law; export the folder of a whole fit");
+      throw Error(ErrorCategory::input, fit_dir.string() +
+                                            ": only the yarn stage ran here (no shell_fit.json): the formats are "
+                                            "sampled from the fitted shell law; export the folder of a whole fit");
     throw Error(ErrorCategory::input, fit_dir.string() + ": no shell_fit.json: not the folder of a fit");
   }
   FittedFabric f;

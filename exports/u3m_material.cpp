@@ -24,7 +24,8 @@ constexpr const char* k_physics_file = "physics/physics.json";
 
 std::string uuid4() {
   std::array<unsigned char, 16> b{};
-  if (RAND_bytes(b.data(), static_cast<int>(b.size())) != 1) throw Error(ErrorCategory::system, "OpenSSL RAND_bytes failed");
+  if (RAND_bytes(b.data(), static_cast<int>(b.size())) != 1)
+    throw Error(ErrorCategory::system, "OpenSSL RAND_bytes failed");
   b[6] = static_cast<unsigned char>((b[6] & 0x0f) | 0x40);  // version 4
   b[8] = static_cast<unsigned char>((b[8] & 0x3f) | 0x80);  // variant 10xx
   char s[37];

@@ -4,5 +4,6 @@
 
 YARNFIT_FUZZ_TARGET(yarn_fit_file) {
   using namespace yarnfit;
-  return fuzz::read_result_json(data, size, [](const nlohmann::json& j) { return results::yarn_fit_file_from_json(j); });
+  return fuzz::read_result_json(data, size,
+                                [](const nlohmann::json& j) { return results::yarn_fit_file_from_json(j); });
 }

@@ -31,7 +31,8 @@ void add_bending_samples(const db::PeriodicTile& tile, const yarn::YarnParams& p
                          std::vector<db::DirectionTargets>& samples) {
   yarn::YarnSystem system(yarn::make_yarn_tile(tile), params);
   Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(system.dof_count());
-  if (!yarn::relax_rest_shape(system, g_rest).converged) throw Error(ErrorCategory::solve, "synth fabric: the rest shape did not converge");
+  if (!yarn::relax_rest_shape(system, g_rest).converged)
+    throw Error(ErrorCategory::solve, "synth fabric: the rest shape did not converge");
   yarn::EquilibriumOptions solve;
   solve.stress_tolerance = 0.0;  // ground truth: every solve to the force tolerance
   for (const db::Direction dir : o.bending_directions) {

@@ -48,7 +48,8 @@ void FieldReader::operator()(const char* key, int& value, int fallback) const {
 void FieldReader::operator()(const char* key, long long& value, long long fallback) const {
   value = long_integer(m_j, key, m_at, fallback);
 }
-void FieldReader::operator()(const char* key, std::array<double, 2>& value, const std::array<double, 2>& fallback) const {
+void FieldReader::operator()(const char* key, std::array<double, 2>& value,
+                             const std::array<double, 2>& fallback) const {
   const std::vector<double> v = numbers(m_j, key, m_at);
   if (v.empty()) {
     value = fallback;

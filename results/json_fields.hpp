@@ -92,7 +92,9 @@ class FieldWriter {
     m_j[key] = value;
   }
   // A number; NaN and ±inf as null (pct_json's "no figure").
-  void operator()(const char* key, double value, double /*fallback*/) { m_j[key] = std::isfinite(value) ? json(value) : json(); }
+  void operator()(const char* key, double value, double /*fallback*/) {
+    m_j[key] = std::isfinite(value) ? json(value) : json();
+  }
   // Numbers, each NaN and ±inf as null (numbers_json).
   void operator()(const char* key, const std::vector<double>& value, const std::vector<double>& /*fallback*/) {
     m_j[key] = numbers_json(value);

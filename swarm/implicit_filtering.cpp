@@ -37,8 +37,8 @@ Point evaluate_at(const ParameterSpace& space, const ResidualObjective& f, const
     Eigen::VectorXd r = f(space.from_unit(u));
     if (r.size() == 0) throw Error(ErrorCategory::solve, "the residual vector is empty");
     if (expected >= 0 && r.size() != expected)
-      throw Error(ErrorCategory::solve, "the residual vector has " + std::to_string(r.size()) + " entries, the start's had " +
-                               std::to_string(expected));
+      throw Error(ErrorCategory::solve, "the residual vector has " + std::to_string(r.size()) +
+                                            " entries, the start's had " + std::to_string(expected));
     if (!r.allFinite()) throw Error(ErrorCategory::solve, "a residual is not finite");
     p.r = std::move(r);
     return p.r.squaredNorm();

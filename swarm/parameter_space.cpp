@@ -26,7 +26,8 @@ ParameterSpace::ParameterSpace(std::vector<Parameter> parameters) : m_parameters
     auto& p = m_parameters[static_cast<std::size_t>(i)];
     if (p.name.empty()) p.name = "x[" + std::to_string(i) + "]";
     const std::string where = "parameter space: " + label(i) + ": ";
-    if (!std::isfinite(p.lower)) throw Error(ErrorCategory::input, where + "lower is not finite (" + number(p.lower) + ")");
+    if (!std::isfinite(p.lower))
+      throw Error(ErrorCategory::input, where + "lower is not finite (" + number(p.lower) + ")");
     if (!std::isfinite(p.upper)) throw Error(ErrorCategory::input, where + "upper is not finite (" + number(p.upper) + ")");
     if (!(p.lower < p.upper)) {
       throw Error(ErrorCategory::input, where + "lower (" + number(p.lower) + ") must be below upper (" +

@@ -189,7 +189,8 @@ void evaluate(detail::SwarmState& st, const ParameterSpace& space, const Particl
 SwarmSummary continue_run(detail::SwarmState st, const ParameterSpace& space, const ParticleObjective& objective,
                           const SwarmRunOptions& options, const std::filesystem::path& checkpoint) {
   if (options.threads < 0) throw Error(ErrorCategory::input, "swarm run options: threads must be ≥ 0");
-  if (options.max_failures_kept < 0) throw Error(ErrorCategory::input, "swarm run options: max_failures_kept must be ≥ 0");
+  if (options.max_failures_kept < 0)
+    throw Error(ErrorCategory::input, "swarm run options: max_failures_kept must be ≥ 0");
   RandomStream rng(0);
   rng.restore(st.random_state);
   const auto run_start = Clock::now();

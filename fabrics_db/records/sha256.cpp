@@ -41,7 +41,8 @@ std::string Sha256::hex_digest() {
   unsigned int size = 0;
   if (EVP_DigestFinal_ex(m_ctx.get(), digest.data(), &size) != 1) fail("EVP_DigestFinal_ex");
   m_finished = true;
-  if (size != 32) throw Error(ErrorCategory::system, "SHA-256 (OpenSSL): digest of " + std::to_string(size) + " bytes, not 32");
+  if (size != 32)
+    throw Error(ErrorCategory::system, "SHA-256 (OpenSSL): digest of " + std::to_string(size) + " bytes, not 32");
   constexpr char k_hex[] = "0123456789abcdef";
   std::string hex;
   hex.reserve(2 * size);

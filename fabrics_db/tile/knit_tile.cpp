@@ -146,10 +146,11 @@ KnitTile make_knit_tile(const KnitChart& chart, const KnitTileOptions& options) 
     h = options.overlap_ratio * p;
     const double shortest_here = held(0.5 * p, 0.0), longest_here = held(3.0 * p, 0.5 * w);
     if (!(length > shortest_here) || !(length < longest_here))
-      throw Error(ErrorCategory::input, "make_knit_tile: loops " + std::to_string(length * 1e3) + " mm long do not fit a period of " +
-                                  std::to_string(w * 1e3) + " x " + std::to_string(p * 1e3) +
-                                  " mm per stitch (they can be " + std::to_string(shortest_here * 1e3) + " to " +
-                                  std::to_string(longest_here * 1e3) + " mm): check the gauge against the stitch length");
+      throw Error(ErrorCategory::input,
+                  "make_knit_tile: loops " + std::to_string(length * 1e3) + " mm long do not fit a period of " +
+                      std::to_string(w * 1e3) + " x " + std::to_string(p * 1e3) + " mm per stitch (they can be " +
+                      std::to_string(shortest_here * 1e3) + " to " + std::to_string(longest_here * 1e3) +
+                      " mm): check the gauge against the stitch length");
     if (held(h, 0.0) > length) {
       h = solve_increasing([&](double height) { return held(height, 0.0); }, 0.5 * p, h, length);
     } else if (held(h, 0.5 * w) >= length) {

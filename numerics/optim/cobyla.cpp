@@ -151,7 +151,8 @@ CobylaSummary run_cobyla(const Objective& objective, const Eigen::VectorXd& star
     throw Error(ErrorCategory::input, "cobyla: start, lower and upper need the same, non-zero size");
   for (Eigen::Index i = 0; i < start.size(); ++i) {
     if (!(lower[i] <= upper[i]) || !std::isfinite(lower[i]) || !std::isfinite(upper[i]))
-      throw Error(ErrorCategory::input, "cobyla: bounds of coordinate " + std::to_string(i) + " are not a finite interval");
+      throw Error(ErrorCategory::input,
+                  "cobyla: bounds of coordinate " + std::to_string(i) + " are not a finite interval");
     if (!(start[i] >= lower[i] && start[i] <= upper[i]))
       throw Error(ErrorCategory::input, "cobyla start: coordinate " + std::to_string(i) + " lies outside its bounds");
   }

@@ -30,7 +30,8 @@ yarn::YarnSceneSetup scene_setup(const YarnSceneRequest& r) {
 // Reads the pattern and the parameters; empty with `problems` when something is wrong.
 std::optional<yarn::YarnScene> load_scene(const YarnSceneRequest& r, db::Problems& problems) {
   const std::size_t before = problems.size();
-  if (!(std::isfinite(r.setup.ks2) && r.setup.ks2 >= 0.0)) problems.add_field("ks2", format_g(r.setup.ks2) + ": must be a positive stiffness [N]");
+  if (!(std::isfinite(r.setup.ks2) && r.setup.ks2 >= 0.0))
+    problems.add_field("ks2", format_g(r.setup.ks2) + ": must be a positive stiffness [N]");
   const double tolerance = r.setup.stress_tolerance;
   if (!(std::isfinite(tolerance) && (tolerance >= 0.0 || tolerance == yarn::EquilibriumOptions{}.stress_tolerance)))
     problems.add_field("stress_tolerance", format_g(tolerance) + ": must be a stress ≥ 0 [N/m]");
@@ -193,8 +194,9 @@ YarnCurveOutcome sweep_yarn_stretch(const YarnCurveRequest& r, db::Problems& pro
     if (!r.dump_dir.empty()) {
       char name[96];
       std::snprintf(name, sizeof name, "%s_%0*zu_s%.4f.obj", r.scene.setup.direction.c_str(), width, i, s.chi.stretch);
-      const std::string failed = dump_obj((fs::path(r.dump_dir) / name).string(), *scene, g, s.chi, r.dump_neighbours,
-                                          s.ok, "yarn curve " + r.scene.setup.pattern.string() + " " + r.scene.setup.direction);
+      const std::string failed =
+          dump_obj((fs::path(r.dump_dir) / name).string(), *scene, g, s.chi, r.dump_neighbours, s.ok,
+                   "yarn curve " + r.scene.setup.pattern.string() + " " + r.scene.setup.direction);
       if (!failed.empty()) outcome.failures.push_back(failed);
       dumps_ok = dumps_ok && failed.empty();
     }

@@ -35,7 +35,8 @@ std::string random_bytes(std::size_t n) {
   std::string out(n, '\0');
   if (RAND_bytes(reinterpret_cast<unsigned char*>(out.data()), static_cast<int>(n)) != 1) {
     const char* why = ERR_reason_error_string(ERR_get_error());
-    throw Error(ErrorCategory::system, std::string("cannot draw random bytes: ") + (why ? why : "the random generator failed"));
+    throw Error(ErrorCategory::system,
+                std::string("cannot draw random bytes: ") + (why ? why : "the random generator failed"));
   }
   return out;
 }
@@ -113,7 +114,8 @@ IssuedToken Accounts::add_user(const std::string& name, bool admin) {
   if (const std::string why = user_name_problem(name); !why.empty()) throw Error(ErrorCategory::input, name + ": " + why);
   IssuedToken issued;
   batch::sql_transaction(m_db, m_file, [&] {
-    if (find(name)) throw Error(ErrorCategory::conflict, name + ": a user of that name exists (revoke or give a new token instead)");
+    if (find(name))
+      throw Error(ErrorCategory::conflict, name + ": a user of that name exists (revoke or give a new token instead)");
     // A placeholder token id (never a valid one: it holds ':') until issue() draws the real one.
     Statement s(m_db, m_file,
                 "INSERT INTO users(name, admin, token_id, secret_sha256, created) VALUES (?1, ?2, ?3, '', ?4)");

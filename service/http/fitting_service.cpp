@@ -609,7 +609,9 @@ int FittingService::bind() {
                                              : (m_impl->http.bind_to_port(m_impl->options.host, m_impl->options.port)
                                                     ? m_impl->options.port
                                                     : -1);
-  if (port <= 0) throw Error(ErrorCategory::system, m_impl->options.host + ":" + std::to_string(m_impl->options.port) + ": cannot listen");
+  if (port <= 0)
+    throw Error(ErrorCategory::system,
+                m_impl->options.host + ":" + std::to_string(m_impl->options.port) + ": cannot listen");
   m_impl->http.size_backlog();
   return m_impl->port = port;
 }

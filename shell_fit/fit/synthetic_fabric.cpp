@@ -53,7 +53,8 @@ PearLoopSetup synthetic_bending_setup(const SyntheticShellOptions& o, db::Direct
 
 std::string simulate_stretch_csv(const InplaneParams& params, const ClampedStretchSetup& setup, double max_stretch,
                                  int points, const std::string& comment, int digits, double noise, std::mt19937* rng) {
-  if (points < 2 || !(max_stretch > 0.0)) throw Error(ErrorCategory::input, "a stretch curve needs 2 points and a positive largest stretch");
+  if (points < 2 || !(max_stretch > 0.0))
+    throw Error(ErrorCategory::input, "a stretch curve needs 2 points and a positive largest stretch");
   std::vector<double> targets;
   for (int i = 1; i < points; ++i) targets.push_back(max_stretch * i / (points - 1));
   const auto run = ClampedStretchScene(setup).run(params, targets);

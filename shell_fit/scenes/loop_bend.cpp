@@ -64,7 +64,8 @@ LoopBendScene::LoopBendScene(const LoopBendSetup& setup) : m_setup(setup) {
   // most of that); at 4:1 it is within 1.5 % (tests/shell_fit/test_loop_bend.cpp).
   if (n_across == 0)
     n_across = std::max(2, 2 * static_cast<int>(std::lround(0.5 * k_cell_aspect * setup.width * (n + 1) / setup.length)));
-  if (n_across < 2 || n_across % 2 != 0) throw Error(ErrorCategory::input, "loop bend: cells_across must be even and ≥ 2");
+  if (n_across < 2 || n_across % 2 != 0)
+    throw Error(ErrorCategory::input, "loop bend: cells_across must be even and ≥ 2");
   if (setup.refinements < 0) throw Error(ErrorCategory::input, "loop bend: refinements must be ≥ 0");
   // The hinge on a clamp's edge spreads its fold over half of each neighbouring cell, so a
   // discrete clamp acts half a cell inside its clamped cell. The free mesh is therefore one

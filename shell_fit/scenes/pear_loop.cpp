@@ -110,7 +110,8 @@ PearLoopScene::PearLoopScene(const PearLoopSetup& setup) : m_setup(setup) {
   if (!std::isfinite(setup.areal_density) || setup.areal_density < 0.0 || !std::isfinite(setup.gravity) ||
       setup.gravity < 0.0)
     throw Error(ErrorCategory::input, "pear loop: areal density and gravity must be finite and ≥ 0");
-  if (!std::isfinite(setup.material_angle)) throw Error(ErrorCategory::input, "pear loop: material angle must be finite");
+  if (!std::isfinite(setup.material_angle))
+    throw Error(ErrorCategory::input, "pear loop: material angle must be finite");
   int n = setup.cells_along;
   if (n == 0) {
     if (!positive(setup.target_edge)) throw Error(ErrorCategory::input, "pear loop: target_edge must be positive");

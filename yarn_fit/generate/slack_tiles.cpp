@@ -44,7 +44,8 @@ SlackReproducer knit(const std::string& name, const std::string& chart_name, dou
   o.default_ks2 = kDefaultKs2;
   GeneratedTile generated = generate_knit_tile(*chart, o);
   if (!generated.converged)
-    throw Error(ErrorCategory::solve, "slack reproducer " + name + ": the knit generator did not relax it: " + generated.message);
+    throw Error(ErrorCategory::solve,
+                "slack reproducer " + name + ": the knit generator did not relax it: " + generated.message);
   SlackReproducer r;
   r.name = name;
   r.construction = chart_name + " knitted loosely, L " + db::format_g(1e3 * kLooseStitch) + " mm, R " +

@@ -117,7 +117,8 @@ TEST(FactorBracket, StopsAtTheBoundsAndAtAFailure) {
   EXPECT_EQ(*failed.below, 1.0);
   EXPECT_EQ(*failed.failed_at, 2.0);
   o.lower = 0.0;
-  EXPECT_ERROR(bracket_by_factor([](double) { return std::optional<bool>(true); }, 1.0, o), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR(bracket_by_factor([](double) { return std::optional<bool>(true); }, 1.0, o),
+               yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

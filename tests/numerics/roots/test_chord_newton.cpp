@@ -103,7 +103,8 @@ TEST(ChordNewton, OptionsNameEveryProblem) {
   options.jacobian_step = -1.0;
   EXPECT_EQ(options.problems().size(), 3u) << options.problems().to_string();
   CubicProblem problem;
-  EXPECT_ERROR((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), options), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(2), options),
+               yarnfit::ErrorCategory::input);
   EXPECT_ERROR((void)chord_newton(problem, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(3), ChordNewtonOptions{}), yarnfit::ErrorCategory::input);
 }
 

@@ -77,7 +77,8 @@ TEST(Accounts, TheDatabaseHoldsOnlyTheSecretsHash) {
 TEST(Accounts, NamesAreCheckedAndTaken) {
   ScratchDir dir("accounts_names");
   Accounts accounts(dir / "accounts.db");
-  for (const char* bad : {"", "Ana", "-x", "a b", "../x", "a/b", "é"}) EXPECT_ERROR(accounts.add_user(bad, false), yarnfit::ErrorCategory::input) << bad;
+  for (const char* bad : {"", "Ana", "-x", "a b", "../x", "a/b", "é"})
+    EXPECT_ERROR(accounts.add_user(bad, false), yarnfit::ErrorCategory::input) << bad;
   EXPECT_ERROR(accounts.add_user(std::string(65, 'a'), false), yarnfit::ErrorCategory::input);
   accounts.add_user("ana", false);
   EXPECT_ERROR(accounts.add_user("ana", true), yarnfit::ErrorCategory::conflict);

@@ -98,7 +98,8 @@ TEST(LoopBend, GravityPartsUpFromDown) {
   ASSERT_TRUE(up.ok && down.ok) << up.message << down.message;
   std::cout << "up " << up.samples[0].force << " N, down " << down.samples[0].force << " N\n";
   EXPECT_GT(down.samples[0].force, up.samples[0].force);
-  EXPECT_ERROR((void)LoopBendScene(setup(L, LoopDirection::up, 9.81)).initial_state(1.1 * L), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)LoopBendScene(setup(L, LoopDirection::up, 9.81)).initial_state(1.1 * L),
+               yarnfit::ErrorCategory::input);
 }
 
 }  // namespace

@@ -51,7 +51,8 @@ TEST(StaticEquilibrium, FixedDofsKeepTheirValuesExactly) {
   const Eigen::MatrixXd aff = a(f, f);
   const Eigen::VectorXd expected = c(f) - aff.ldlt().solve(a(f, cdofs) * (x(cdofs) - c(cdofs)));
   EXPECT_LT((x(f) - expected).lpNorm<Eigen::Infinity>(), 1e-12);
-  EXPECT_ERROR((void)solve_static(terms_of({&term}), x, {n}, NewtonOptions::for_shell()), yarnfit::ErrorCategory::input);
+  EXPECT_ERROR((void)solve_static(terms_of({&term}), x, {n}, NewtonOptions::for_shell()),
+               yarnfit::ErrorCategory::input);
 }
 
 TEST(StaticEquilibrium, SpringChainReachesKnownEquilibriumAndClampReactionsHaveTheDocumentedSign) {

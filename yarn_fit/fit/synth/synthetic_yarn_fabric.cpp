@@ -35,7 +35,8 @@ SyntheticYarnResult simulate_yarn_targets(const db::PeriodicTile& tile, const ya
   Eigen::VectorXd g_rest = Eigen::VectorXd::Zero(system.dof_count());
   out.rest = yarn::relax_rest_shape(system, g_rest, options.rest);
   if (!out.rest.converged) {
-    throw Error(ErrorCategory::solve, "synth yarn: rest-shape heuristic did not converge: " + out.rest.last_solve.message);
+    throw Error(ErrorCategory::solve,
+                "synth yarn: rest-shape heuristic did not converge: " + out.rest.last_solve.message);
   }
   const std::vector<double> stretches = yarn::even_stretches(options.max_stretch, options.points);
   // Targets are ground truth: every solve to the force tolerance. With the stress read-out test
