@@ -274,6 +274,9 @@ TEST(ParticleSwarm, ResumeRejectsAnotherSpaceOrABrokenFileNamingTheField) {
   EXPECT_NE(message_of(b.space(), dir / "edited.json").find("velocity: missing"), std::string::npos)
       << message_of(b.space(), dir / "edited.json");
   EXPECT_NE(message_of(b.space(), dir / "absent.json").find("cannot open"), std::string::npos);
+  // What the user does differs: a checkpoint that is not there (io), one that is broken (input).
+  EXPECT_ERROR((void)resume_swarm(dir / "absent.json", b.space(), b.f), yarnfit::ErrorCategory::io);
+  EXPECT_ERROR((void)resume_swarm(dir / "broken.json", b.space(), b.f), yarnfit::ErrorCategory::input);
 }
 
 TEST(ParticleSwarm, FailingEvaluationsArePenalisedAndReported) {
