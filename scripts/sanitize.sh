@@ -18,12 +18,10 @@ run_address() {
   # -O2, not -O1: Eigen's small fixed-size products are what the whole-fit tests spend their
   # time in, and at -O1 they run ten times slower than at -O2. Frame pointers keep stacks
   # readable; UB is fatal so that ctest sees it. The libraries compile in unity batches (as the
-  # fuzz build does), which halves this build on two cores. yarnfit's own assert()s stay on;
-  # Eigen's are off (EIGEN_NO_DEBUG): they check each coefficient's index, which ASan checks
-  # too, and they made the whole-fit tests 12-21 times slower than in the Release build.
+  # fuzz build does), which halves this build on two cores.
   cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DYARNFIT_BUILD_BENCH=OFF -DYARNFIT_TEST_TIMEOUT_SCALE=5 \
     -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 \
-    -DCMAKE_CXX_FLAGS="-O2 -g1 -DEIGEN_NO_DEBUG -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined" \
+    -DCMAKE_CXX_FLAGS="-O2 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
   cmake --build $build --parallel "$(nproc)"
   # Leaks are checked too (LeakSanitizer, on with ASan); suppressions carry their reasons.
