@@ -148,13 +148,8 @@ void add_batch_commands(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   b->add_option("--family", a->batch.family, "Only the fabrics of this family");
   b->add_option("--only", a->batch.only, "Only these fabric ids (comma-separated)")->delimiter(',');
-  b->add_option("--stages", a->fit.stages, "shell (the shell fit and its uniform targets) or all (the whole pipeline)")
-      ->capture_default_str();
-  add_fit_setting_options(*b, a->fit);
-  b->add_option("--mesh", a->fit.mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
-  add_shell_model_option(*b, a->fit.shell_model);
-  add_fab_held_out_option(*b, a->fit.fab_held_out);
-  add_export_option(*b, a->fit.exports);
+  for (const auto group : {pipeline::RequestGroup::stages, pipeline::RequestGroup::search, pipeline::RequestGroup::shell, pipeline::RequestGroup::outputs})
+    add_request_options(*b, a->fit, group);
   b->add_flag("--no-report", a->no_report, "Do not write the HTML report DIR/report/ when the batch ends");
   b->add_flag("--retry-failed", a->batch.retry_failed, "Run the fabrics that failed before again (same hash)");
   b->add_flag("--mpi", a->mpi,

@@ -23,13 +23,13 @@
 namespace yarnfit::cli {
 namespace {
 
-// Options shared by `yarn fit` and `fit`: the fabric, the folder, the settings `batch` shares
-// (cli/fit_args.hpp), threads, a start and the terminal.
+// Options shared by `yarn fit` and `fit`: the fabric, the folder, the search settings `batch`
+// shares (pipeline/fit_request_fields.hpp), threads, a start and the terminal.
 void add_yarn_fit_options(CLI::App& cmd, FitArgs& a) {
   pipeline::FitRequest& r = a.request;
   cmd.add_option("FABRIC", r.fabric, "Fabric folder (needs pattern and a yarn stiffness_N)")->required();
   cmd.add_option("-o,--out", r.out, "Output folder")->required();
-  add_fit_setting_options(cmd, r);
+  add_request_options(cmd, r, pipeline::RequestGroup::search);
   cmd.add_option("--threads", r.threads, "OpenMP threads evaluating particles (0: OpenMP's default)")
       ->capture_default_str();
   cmd.add_option("--start", r.start,
@@ -64,11 +64,9 @@ void add_fit_commands(CLI::App& app, CLI::App& yarn, int& exit_code) {
       "fit", "The whole pipeline: shell fit (shell_fit.json, uniform_targets.csv, shell_curves.csv), then the yarn "
              "fit on its targets (yarn_fit.json, yarn_curves.csv), and DIR/summary.txt for both");
   add_yarn_fit_options(*f, *fargs);
-  f->add_option("--mesh", fargs->request.mesh_mm, "Shell stage: mesh cell size [mm]")->capture_default_str();
-  add_shell_model_option(*f, fargs->request.shell_model);
-  add_fab_held_out_option(*f, fargs->request.fab_held_out);
+  add_request_options(*f, fargs->request, pipeline::RequestGroup::shell);
   f->add_flag("--no-report", fargs->no_report, "Do not write the one-fabric HTML report DIR/report/");
-  add_export_option(*f, fargs->request.exports);
+  add_request_options(*f, fargs->request, pipeline::RequestGroup::outputs);
   f->callback([fargs, &exit_code] { exit_code = run_fit_command(*fargs); });
 }
 

@@ -24,16 +24,9 @@ void add_shell_commands(CLI::App& app, int& exit_code) {
   fit->add_option("FABRIC", r.fabric, "Fabric folder")->required();
   fit->add_option("-o,--out", r.out, "Output folder")->required();
   // Ranges are checked by the library (ShellFitOptions::problems), which names every problem.
-  fit->add_option("--mesh", r.mesh_mm, "Mesh cell size [mm]")->capture_default_str();
-  add_shell_model_option(*fit, r.shell_model);
-  add_fab_held_out_option(*fit, r.fab_held_out);
-  fit->add_option("--refine", r.refinements, "Midpoint subdivisions of the mesh (0-4)")->capture_default_str();
+  add_request_options(*fit, r, pipeline::RequestGroup::shell);
+  add_request_options(*fit, r, pipeline::RequestGroup::shell_solve);
   fit->add_option("--threads", r.shell_threads, "Test directions simulated in parallel (1-64, default 2)");
-  fit->add_option("--max-iterations", r.max_iterations,
-                  "Ceres iterations of the in-plane fit after its multi-start (1-1000)")
-      ->capture_default_str();
-  fit->add_flag("--full-range", r.full_range,
-                "Fit every measured point, not only up to the power range (83.3 N/m line force)");
   fit->add_flag("-q,--quiet", args->quiet, "No progress or summary");
   fit->callback([args, &exit_code] { exit_code = run_fit_command(*args); });
   add_shell_sim_command(*shell, exit_code);

@@ -5,26 +5,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include <string>
-#include <vector>
-
+#include "cli/request_options.hpp"
 #include "pipeline/fit_request.hpp"
 #include "pipeline/plan.hpp"
 
 namespace yarnfit::cli {
-
-// --shell-model thesis|stiffening (`shell fit`, `fit`, `batch`).
-void add_shell_model_option(CLI::App& cmd, std::string& model);
-// --fab-held-out (pipeline::FitRequest::fab_held_out).
-void add_fab_held_out_option(CLI::App& cmd, std::vector<std::string>& tests);
-
-// --export u3m,arcsim,table (`fit`, `batch`): the formats written beside the fit's outputs.
-void add_export_option(CLI::App& cmd, std::vector<std::string>& formats);
-
-// The settings options: swarm, local step, samples, seed, compression nodes, ablations, the
-// profile (not the shell stage's --mesh, the fabric, the output folder, --threads,
-// --start, --quiet or --force, which differ between the commands).
-void add_fit_setting_options(CLI::App& cmd, pipeline::FitRequest& request);
 
 // A fit command's arguments: the request its options bind to, and the terminal's.
 struct FitArgs {

@@ -5,39 +5,47 @@
 #include <set>
 #include <vector>
 
+#include "pipeline/fit_request_fields.hpp"
+
 namespace yarnfit::cli {
 
+namespace {
+
+// The first of a field's option names ("--local,--local-method": "--local").
+std::string first_option(const char* names) {
+  const std::string all = names;
+  return all.substr(0, all.find(','));
+}
+
+// Each request field's name, and the library's names of the settings it sets, to its option
+// (pipeline/fit_request_fields.hpp).
+std::map<std::string, std::string> request_options() {
+  std::map<std::string, std::string> out;
+  pipeline::FitRequest request;
+  pipeline::for_each_request_field(request, [&out](const pipeline::RequestField& f, const auto&) {
+    out[f.name] = first_option(f.option);
+    for (const char* name : f.settings_names) out[name] = first_option(f.option);
+  });
+  return out;
+}
+
+}  // namespace
+
 std::string option_name(const std::string& field) {
-  static const std::map<std::string, std::string> options{
-      {"mesh", "--mesh"},
-      {"refinements", "--refine"},
+  // The options that set no field of a fit request.
+  static const std::map<std::string, std::string> others{
       {"threads", "--threads"},
-      {"max_iterations", "--max-iterations"},
-      {"particles", "--particles"},
-      {"iterations", "--iterations"},
-      {"swarm_samples", "--samples"},
-      {"local_samples", "--local-samples"},
-      {"local_evaluations", "--local-evaluations"},
-      {"objective.compression_weight", "--compression-weight"},
-      {"compression_weight", "--compression-weight"},
-      {"swarm_compression_nodes", "--compression-nodes"},
-      {"local_compression_nodes", "--compression-nodes"},
       {"resume", "--resume"},
       {"jobs", "--jobs"},
       {"threads_per_job", "--threads-per-job"},
       {"only", "--only"},
       {"out", "--out"},
       {"database", "DB"},
-      {"stages", "--stages"},
-      {"shell_model", "--shell-model"},
-      {"fab_held_out", "--fab-held-out"},
-      {"budget", "--budget"},
-      {"global_method", "--global"},
-      {"local_method", "--local"},
       {"targets", "--targets"},
       {"bend_mesh", "--bend-mesh"},
       {"stretches", "--weft/--bias/--warp"},
   };
+  static const std::map<std::string, std::string> requested = request_options();
   std::string bare = field;
   if (bare.rfind("fit.", 0) == 0) bare = bare.substr(4);  // batch::BatchOptions::fit
   for (const char* prefix : {"shell.", "yarn."})
@@ -50,7 +58,8 @@ std::string option_name(const std::string& field) {
       "free_compression", "curvature", "dump", "max_stretch", "points", "dump_dir", "distance", "direction", "length_mm",
       "width_mm", "gauge_length_mm", "gauge_width_mm", "areal_density_gsm", "ktheta_weft", "ktheta_bias", "ktheta_warp",
       "kxx", "kxy", "kyy", "kss", "kn1", "kn2", "lxx", "bxx", "lyy", "byy", "lss", "bss", "axx", "ayy"};
-  if (const auto it = options.find(bare); it != options.end()) return it->second;
+  if (const auto it = requested.find(bare); it != requested.end()) return it->second;
+  if (const auto it = others.find(bare); it != others.end()) return it->second;
   if (!plain.contains(bare)) return field;
   std::string option = "--" + bare;
   std::replace(option.begin(), option.end(), '_', '-');

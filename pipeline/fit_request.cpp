@@ -1,4 +1,5 @@
 #include "pipeline/fit_request.hpp"
+#include "pipeline/fit_request_fields.hpp"
 
 #include "yarn_fit/fit/budget.hpp"
 
@@ -66,6 +67,14 @@ PipelineOptions pipeline_options(const FitRequest& request, db::Problems& proble
   o.targets = request.targets;
   o.start = request.start;
   return o;
+}
+
+const yarn::YarnFitSettings& default_request_settings() {
+  static const yarn::YarnFitSettings settings = [] {
+    db::Problems none;
+    return pipeline_options(FitRequest{}, none).yarn;
+  }();
+  return settings;
 }
 
 FitPlan fit_plan(const FitRequest& request, db::Problems& problems) {

@@ -5,15 +5,15 @@
 //
 //   {"stages": "all", "budget": "quick", "seed": 7, "report": true}
 //
-// Fields: stages ("shell" or "all"), budget, global_method, local_method, particles,
-// iterations, samples, local_samples, local_evaluations, starts, seed, shell_model,
-// max_iterations, full_range, fab_held_out (a list of FAB test names), no_swarm,
-// linear_stretch, no_rest_shape, no_profile, report (default true).
+// Fields: the request's fields marked served in pipeline/fit_request_fields.hpp (stages is
+// "shell" or "all" here), under their names there, and report (default true).
 // An unknown field, a value of the wrong type or a name the fit cannot use is a problem
 // naming the field; the stages' own ranges are checked as `fit`'s are. A fit asked by a
 // stranger must also end in a time the server can give it: the sizes of the search are
-// bounded (k_request_bounds, docs/service.md), past them a problem names the field. The
+// bounded (request_bounds(), docs/service.md), past them a problem names the field. The
 // threads of a fit are the server's (`serve --threads-per-job`), not the request's.
+
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -24,15 +24,12 @@ namespace yarnfit::service {
 
 // The largest size of each search field a service request may ask for: two to ten times what
 // the thorough budget uses (yarn_fit/fit/budget.cpp; the shell stage's default 1000
-// iterations), and at least 1 each.
+// iterations), and at least 1 each. Listed with the fields (pipeline/fit_request_fields.hpp).
 struct RequestBound {
   const char* field;
   int most;
 };
-inline constexpr RequestBound k_request_bounds[] = {
-    {"particles", 256},         {"iterations", 40}, {"samples", 50},           {"local_samples", 50},
-    {"local_evaluations", 1500}, {"starts", 16},    {"max_iterations", 10000},
-};
+[[nodiscard]] std::vector<RequestBound> request_bounds();
 
 struct ServiceFitRequest {
   pipeline::FitRequest request;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli/option_names.hpp"
+#include "cli/request_options.hpp"
 #include "cli/progress_display.hpp"
 
 namespace yarnfit::cli {
@@ -87,6 +88,26 @@ TEST(ProgressDisplay, SilentWhenDisabled) {
   d.update("shell fit", event("in-plane", 1, 8, 1.0));
   d.finish();
   EXPECT_TRUE(out.str().empty());
+}
+
+// Each field of a fit request is one option of its group's commands, with the field list's
+// help, and a problem naming the field or a setting it sets names that option.
+TEST(OptionNames, EveryFitRequestFieldIsTheOptionItsGroupRegisters) {
+  pipeline::FitRequest request;
+  int fields = 0;
+  pipeline::for_each_request_field(request, [&](const pipeline::RequestField& f, auto&) {
+    ++fields;
+    CLI::App app;
+    add_request_options(app, request, f.group);
+    const std::string names = f.option;
+    const std::string first = names.substr(0, names.find(','));
+    const CLI::Option* option = app.get_option_no_throw(first);
+    ASSERT_NE(option, nullptr) << f.name;
+    EXPECT_EQ(option->get_description(), f.help) << f.name;
+    EXPECT_EQ(option_name(f.name), first);
+    for (const char* setting : f.settings_names) EXPECT_EQ(option_name(std::string("yarn.") + setting), first);
+  });
+  EXPECT_GE(fields, 25);
 }
 
 TEST(OptionNames, LibraryFieldsShowAsTheOptionsTheUserTyped) {

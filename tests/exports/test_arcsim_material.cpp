@@ -32,12 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::contains;
-using yarnfit::testing::quoted;
-using yarnfit::testing::read_file;
-using yarnfit::testing::run_cli;
-using yarnfit::testing::ScratchDir;
-using yarnfit::testing::write_file;
+using namespace yarnfit::testing;
 
 using testing::fit_folder;
 

@@ -24,10 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::quoted;
-using yarnfit::testing::read_file;
-using yarnfit::testing::run_cli;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 using testing::k_data;
 

@@ -16,10 +16,7 @@ namespace yarnfit::db {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
-using yarnfit::testing::shared_pattern;
-using yarnfit::testing::write_file;
+using namespace yarnfit::testing;
 
 const char* const k_label = "tile.pyp";
 

@@ -21,7 +21,7 @@ namespace yarnfit::db {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::shared_pattern;
+using namespace yarnfit::testing;
 
 
 PeriodicTile load(const fs::path& file) {

@@ -9,9 +9,7 @@ namespace yarnfit::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
-using yarnfit::testing::write_file;
+using namespace yarnfit::testing;
 
 TEST(Outputs, ExistingFilesAreRefusedUnlessOverwriting) {
   ScratchDir dir("outputs");

@@ -16,7 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using yarnfit::testing::weft_only_example;  // a shell stage of about a second
+using namespace yarnfit::testing;
 const fs::path k_example = yarnfit::testing::bundled_example_folder();
 
 // A yarn fit of a few evaluations.

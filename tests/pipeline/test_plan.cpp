@@ -18,9 +18,7 @@ namespace yarnfit::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
-using yarnfit::testing::write_file;
+using namespace yarnfit::testing;
 
 // The bundled example with its weft stretch test only (a shell stage of about a second), as a
 // record folder.

@@ -17,7 +17,7 @@ namespace yarnfit::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 const fs::path k_tile = fs::path(YARNFIT_SOURCE_DIR) / "examples/fabrics/stockinette_demo/tile.pyp";
 

@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::read_file;
+using namespace yarnfit::testing;
 
 // Objects whose keys are data (parameter, direction and scene names), not names of the format;
 // `settings` holds the fit's options under their own names (the names option validation and the

@@ -18,9 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::quoted;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 // Equal figures, NaN equal to NaN (no figure on both sides), bit for bit otherwise.
 void expect_same_figure(double a, double b, const std::string& what) {

@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::read_file;
+using namespace yarnfit::testing;
 
 // The stockinette tile an acrylic batch generated (knit k, L 11.28 mm, R 0.74 mm).
 json tile_version_1() { return json::parse(read_file(fs::path(YARNFIT_SOURCE_DIR) / "tests/results/data/tile_v1.json")); }

@@ -16,8 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 // `yarnfit batch --budget quick` on the bundled stockinette_light, written by the commit before
 // the results module (bd6c6bd): no schema_version, the staged search and the Gauss–Newton step.

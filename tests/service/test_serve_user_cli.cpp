@@ -12,9 +12,7 @@
 namespace yarnfit::service {
 namespace {
 
-using yarnfit::testing::quoted;
-using yarnfit::testing::run_cli;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 TEST(ServeUserCli, AddPrintsATokenOnceThatTheServiceAccepts) {
   ScratchDir dir("serve_user");

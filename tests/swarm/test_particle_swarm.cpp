@@ -27,7 +27,7 @@ namespace {
 
 using yarnfit::swarm::testing::benchmark;
 using yarnfit::swarm::testing::benchmark_table;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 namespace fs = std::filesystem;
 
 // Best of `budget` points drawn uniformly in the unit cube of the space (so log-space

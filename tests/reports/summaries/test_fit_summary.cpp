@@ -13,7 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-using yarnfit::testing::contains;
+using namespace yarnfit::testing;
 
 const results::YarnFitFile k_yarn = results::yarn_fit_file_from_json(
     {{"ok", true}, {"params", json::object()}, {"settings", {{"swarm", false}}}, {"timing_s", {{"total", 2.0}}}});

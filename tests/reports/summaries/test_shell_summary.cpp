@@ -12,7 +12,7 @@ namespace {
 
 using nlohmann::json;
 
-using yarnfit::testing::contains;
+using namespace yarnfit::testing;
 
 // The summaries read the type; these files are of schema version 1 (no per-direction errors
 // stored), so reading them computes the per-direction figures from the curves.

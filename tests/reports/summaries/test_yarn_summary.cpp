@@ -14,7 +14,7 @@ namespace {
 
 using nlohmann::json;
 
-using yarnfit::testing::contains;
+using namespace yarnfit::testing;
 
 json yarn_fit() {
   json profile_entry = {{"value", 1.0}, {"objective_lower", 2.0}, {"objective_upper", 3.0},

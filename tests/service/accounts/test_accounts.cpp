@@ -16,8 +16,7 @@
 namespace yarnfit::service {
 namespace {
 
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 const std::regex k_token_form("yft_[0-9a-f]{16}_[A-Za-z0-9_-]{43}");
 

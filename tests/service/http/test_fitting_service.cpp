@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/fit_request_fields.hpp"
 #include "tests/service/served_fixture.hpp"
 #include "tests/service/test_archives.hpp"
 #include "tests/test_support.hpp"
@@ -28,8 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 using namespace yarnfit::testing::archives;
 
 
@@ -153,10 +153,56 @@ TEST(OpenApi, TheDescriptionHoldsEveryRouteTheServerRegistersAndNoOther) {
 TEST(OpenApi, TheFitRequestBoundsAreTheServices) {
   const YAML::Node doc = YAML::LoadFile((fs::path(YARNFIT_SOURCE_DIR) / "docs" / "openapi.yaml").string());
   const YAML::Node fields = doc["components"]["schemas"]["FitRequest"]["properties"];
-  for (const auto& bound : k_request_bounds) {
+  for (const auto& bound : request_bounds()) {
     ASSERT_TRUE(fields[bound.field]) << bound.field;
     EXPECT_EQ(fields[bound.field]["minimum"].as<int>(), 1) << bound.field;
     EXPECT_EQ(fields[bound.field]["maximum"].as<int>(), bound.most) << bound.field;
+  }
+}
+
+// Every field a request may set is read back as it was written (the job's request is kept as
+// JSON to resume it after a restart); the command line's own fields are refused as unknown, and
+// each size past its bound is a problem naming it.
+TEST(FitRequestJson, EveryServedFieldRoundTripsAndNoOtherIsRead) {
+  ServiceFitRequest given;
+  given.report = false;
+  int n = 0;
+  std::vector<std::string> unserved;
+  pipeline::for_each_request_field(given.request, [&](const pipeline::RequestField& f, auto& member) {
+    using T = std::decay_t<decltype(member)>;
+    ++n;
+    if (!f.served) unserved.push_back(f.name);
+    if constexpr (std::is_same_v<T, bool>) member = !member;
+    else if constexpr (std::is_same_v<T, std::string>) member = std::string("not-") + f.name;
+    else if constexpr (std::is_same_v<T, std::vector<std::string>>) member = {f.name, "second"};
+    else if constexpr (std::is_same_v<T, std::optional<int>> || std::is_same_v<T, int>) member = n;
+    else member = static_cast<T>(1000 + n);
+  });
+  const json body = to_json(given);
+  db::Problems problems;
+  const ServiceFitRequest read = fit_request_from_json(body, problems);
+  EXPECT_EQ(to_json(read), body);
+  EXPECT_FALSE(read.report);
+  ASSERT_GE(unserved.size(), 4u);
+  for (const auto& name : unserved) EXPECT_FALSE(body.contains(name)) << name;
+  // Every served field was read: the only problem is the stages' name ("not-stages").
+  EXPECT_EQ(problems.size(), 1u) << problems.to_string();
+
+  for (const auto& name : unserved) {
+    db::Problems refused;
+    (void)fit_request_from_json(json{{name, 1}}, refused);
+    EXPECT_NE(refused.to_string().find(name + ": unknown field"), std::string::npos) << refused.to_string();
+  }
+  for (const auto& bound : request_bounds()) {
+    for (const int value : {0, bound.most + 1}) {
+      db::Problems refused;
+      (void)fit_request_from_json(json{{bound.field, value}}, refused);
+      const std::string said = std::string(bound.field) + ": " + std::to_string(value) + " is outside";
+      EXPECT_NE(refused.to_string().find(said), std::string::npos) << refused.to_string();
+    }
+    db::Problems none;
+    (void)fit_request_from_json(json{{bound.field, bound.most}}, none);
+    EXPECT_TRUE(none.empty()) << none.to_string();
   }
 }
 

@@ -21,8 +21,7 @@ namespace yarnfit::service {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::read_file;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 using namespace yarnfit::testing::archives;
 
 

@@ -16,7 +16,7 @@
 namespace yarnfit::shell {
 namespace {
 
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 const InplaneParams k_truth = known::k_knit;
 

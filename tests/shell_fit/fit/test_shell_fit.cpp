@@ -14,7 +14,7 @@
 namespace yarnfit::shell {
 namespace {
 
-using yarnfit::testing::weft_only_example;  // an in-plane fit of about a second
+using namespace yarnfit::testing;
 
 TEST(ShellFitOptions, EveryInvalidFieldIsNamedBeforeAnyWork) {
   ShellFitOptions o;

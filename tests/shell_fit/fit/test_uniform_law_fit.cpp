@@ -14,7 +14,7 @@
 namespace yarnfit::shell {
 namespace {
 
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 TargetRanges ranges(bool bias) {
   TargetRanges r;

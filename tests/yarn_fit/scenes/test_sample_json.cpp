@@ -11,7 +11,7 @@ namespace yarnfit::yarn {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::k_example_tile;
+using namespace yarnfit::testing;
 
 YarnScene example_scene(const yarnfit::testing::ScratchDir& dir, int max_iterations) {
   db::Problems problems;

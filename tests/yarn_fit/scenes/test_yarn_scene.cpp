@@ -11,9 +11,7 @@ namespace yarnfit::yarn {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::k_example_tile;
-using yarnfit::testing::ScratchDir;
-using yarnfit::testing::write_file;
+using namespace yarnfit::testing;
 
 
 YarnSceneSetup setup_with(const fs::path& params) {

@@ -18,8 +18,7 @@ namespace yarnfit::yarn {
 namespace {
 
 namespace fs = std::filesystem;
-using yarnfit::testing::bundled_example;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 db::Fabric knit_fabric(const std::string& chart, double stitch_length_mm, double radius_mm) {
   db::Fabric f = bundled_example();

@@ -18,8 +18,7 @@
 namespace yarnfit::yarn {
 namespace {
 
-using yarnfit::testing::bundled_example;
-using yarnfit::testing::ScratchDir;
+using namespace yarnfit::testing;
 
 TEST(ShapeSearch, AGeneratedFabricsKnownAspectIsRecovered) {
   ScratchDir dir("shape_search");

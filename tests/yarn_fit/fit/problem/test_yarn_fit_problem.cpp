@@ -12,7 +12,7 @@
 namespace yarnfit::yarn {
 namespace {
 
-using yarnfit::testing::bundled_example;
+using namespace yarnfit::testing;
 
 TEST(YarnFitProblem, ScalesFromTheStiffestYarnAndTheTileFacts) {
   const db::Fabric f = bundled_example();
