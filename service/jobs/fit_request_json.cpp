@@ -85,7 +85,10 @@ ServiceFitRequest fit_request_from_json(const json& body, db::Problems& problems
     say("body", "expected a JSON object of fit options");
     return out;
   }
-  for (const auto& [name, value] : body.items()) {
+  for (const auto& item : body.items()) {
+    // Named, not bound: a lambda may not capture a structured binding before C++20 in clang 14.
+    const std::string& name = item.key();
+    const json& value = item.value();
     bool known = false, typed = true;
     if (name == "report") {
       known = true;

@@ -17,6 +17,9 @@
 
 namespace yarnfit::testing {
 
+// The service tests' vocabulary, with `using namespace yarnfit::testing`: fs (test_support.hpp),
+// json, and the service's types.
+using nlohmann::json;
 using service::Accounts;
 using service::FittingService;
 using service::ServiceOptions;

@@ -37,9 +37,7 @@
 namespace yarnfit::service {
 namespace {
 
-namespace fs = std::filesystem;
-using nlohmann::json;
-using namespace yarnfit::testing;
+using namespace yarnfit::testing;  // fs, json, the served fixture
 using namespace yarnfit::testing::archives;
 
 
