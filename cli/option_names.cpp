@@ -5,17 +5,12 @@
 #include <set>
 #include <vector>
 
+#include "cli/request_options.hpp"
 #include "pipeline/fit_request_fields.hpp"
 
 namespace yarnfit::cli {
 
 namespace {
-
-// The first of a field's option names ("--local,--local-method": "--local").
-std::string first_option(const char* names) {
-  const std::string all = names;
-  return all.substr(0, all.find(','));
-}
 
 // Each request field's name, and the library's names of the settings it sets, to its option
 // (pipeline/fit_request_fields.hpp).
@@ -23,8 +18,8 @@ std::map<std::string, std::string> request_options() {
   std::map<std::string, std::string> out;
   pipeline::FitRequest request;
   pipeline::for_each_request_field(request, [&out](const pipeline::RequestField& f, const auto&) {
-    out[f.name] = first_option(f.option);
-    for (const char* name : f.settings_names) out[name] = first_option(f.option);
+    out[f.name] = first_option_name(f.option);
+    for (const char* name : f.settings_names) out[name] = first_option_name(f.option);
   });
   return out;
 }

@@ -27,4 +27,9 @@ void add_request_options(CLI::App& cmd, pipeline::FitRequest& request, pipeline:
   });
 }
 
+std::string first_option_name(const char* names) {
+  const std::string all = names;
+  return all.substr(0, all.find(','));
+}
+
 }  // namespace yarnfit::cli

@@ -13,4 +13,8 @@ namespace yarnfit::cli {
 // it together (`fit`, `yarn fit` and `batch` the search settings, and so on).
 void add_request_options(CLI::App& cmd, pipeline::FitRequest& request, pipeline::RequestGroup group);
 
+// The first of a field's option names, the one messages use ("--local,--local-method":
+// "--local").
+std::string first_option_name(const char* names);
+
 }  // namespace yarnfit::cli

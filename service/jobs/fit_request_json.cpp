@@ -2,6 +2,7 @@
 
 #include <limits>
 #include <optional>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -85,30 +86,29 @@ ServiceFitRequest fit_request_from_json(const json& body, db::Problems& problems
     say("body", "expected a JSON object of fit options");
     return out;
   }
-  for (const auto& item : body.items()) {
-    // Named, not bound: a lambda may not capture a structured binding before C++20 in clang 14.
-    const std::string& name = item.key();
-    const json& value = item.value();
-    bool known = false, typed = true;
-    if (name == "report") {
-      known = true;
-      typed = read_value(value, out.report);
+  // One walk of the field list reads every served field the body gives and checks its size;
+  // what is left of the body is "report" or unknown.
+  std::set<std::string> read;
+  pipeline::for_each_request_field(out.request, [&](const pipeline::RequestField& f, auto& member) {
+    if (!f.served) return;
+    const auto given = body.find(f.name);
+    if (given == body.end()) return;
+    read.insert(f.name);
+    if (!read_value(*given, member)) {
+      say(f.name, "wrong type: " + given->dump());
+      return;
     }
-    pipeline::for_each_request_field(out.request, [&](const pipeline::RequestField& f, auto& member) {
-      if (!f.served || name != f.name) return;
-      known = true;
-      typed = read_value(value, member);
-    });
-    if (!known) say(name, "unknown field");
-    else if (!typed) say(name, "wrong type: " + value.dump());
-  }
-  // The sizes the body asks for, each within what the service runs.
-  pipeline::for_each_request_field(out.request, [&](const pipeline::RequestField& f, const auto& member) {
-    if (!f.served || f.served_most == 0 || !body.contains(f.name)) return;
-    const std::optional<long long> value = size_of(member);
-    if (value && (*value < 1 || *value > f.served_most))
-      say(f.name, std::to_string(*value) + " is outside what the service runs: 1 to " + std::to_string(f.served_most));
+    const std::optional<long long> size = f.served_most > 0 ? size_of(member) : std::nullopt;
+    if (size && (*size < 1 || *size > f.served_most))
+      say(f.name, std::to_string(*size) + " is outside what the service runs: 1 to " + std::to_string(f.served_most));
   });
+  for (const auto& item : body.items()) {
+    if (item.key() == "report") {
+      if (!read_value(item.value(), out.report)) say("report", "wrong type: " + item.value().dump());
+    } else if (read.count(item.key()) == 0) {
+      say(item.key(), "unknown field");
+    }
+  }
   // The yarn stage alone fits a targets file, which a service request does not carry.
   if (out.request.stages != "shell" && out.request.stages != "all")
     say("stages", "'" + out.request.stages + "': a fit runs \"shell\" or \"all\"");

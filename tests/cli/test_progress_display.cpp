@@ -99,8 +99,7 @@ TEST(OptionNames, EveryFitRequestFieldIsTheOptionItsGroupRegisters) {
     ++fields;
     CLI::App app;
     add_request_options(app, request, f.group);
-    const std::string names = f.option;
-    const std::string first = names.substr(0, names.find(','));
+    const std::string first = first_option_name(f.option);
     const CLI::Option* option = app.get_option_no_throw(first);
     ASSERT_NE(option, nullptr) << f.name;
     EXPECT_EQ(option->get_description(), f.help) << f.name;
